@@ -1,0 +1,28 @@
+// The subcommands of the causticbench command line.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace causticbench {
+
+struct RenderOptions {
+  std::string scene;
+  std::string method = "reference";
+  std::vector<std::string> assignments;  // key=value knobs
+  std::string out;
+  int frame = 0;
+  int threads = 0;
+  std::string resolution;  // "WxH" or empty
+  int direct_samples = 16;
+};
+
+int run_render(const RenderOptions& options);
+int run_list();
+int run_describe(const std::string& method, bool markdown);
+int run_validate(const std::string& file);
+
+// "WxH" -> width, height; InputError otherwise.
+void parse_resolution(const std::string& text, int& width, int& height);
+
+}  // namespace causticbench

@@ -1,0 +1,75 @@
+#include <fmt/format.h>
+
+#include "apps/commands.h"
+#include "core/scene.h"
+#include "methods/registry.h"
+
+namespace causticbench {
+
+int run_list() {
+  const auto& registry = method_registry();
+  std::vector<std::string> capability_names;
+  for (const auto& [name, value] : Capabilities{}.entries()) capability_names.push_back(name);
+  fmt::print("Methods ({}):\n", registry.size());
+  for (const MethodEntry& method : registry) {
+    const MethodInfo& info = method.info();
+    fmt::print("  {:<12} {}\n", info.name, info.summary);
+  }
+  fmt::print("\nCapabilities (yes / no):\n  {:<26}", "");
+  for (const MethodEntry& method : registry) fmt::print(" {:>11}", method.info().name);
+  fmt::print("\n");
+  for (size_t i = 0; i < capability_names.size(); ++i) {
+    fmt::print("  {:<26}", capability_names[i]);
+    for (const MethodEntry& method : registry) {
+      fmt::print(" {:>11}", method.info().capabilities.entries()[i].second ? "yes" : "no");
+    }
+    fmt::print("\n");
+  }
+  return 0;
+}
+
+int run_describe(const std::string& name, bool markdown) {
+  const MethodInfo& info = find_method(name).info();
+  auto phase = [](ParamPhase p) { return p == ParamPhase::build ? "build" : "render"; };
+  if (markdown) {
+    fmt::print("# `{}`\n\n{}\n\nPaper: {}\n\n", info.name, info.summary, info.paper);
+    fmt::print("| knob | phase | type | default | allowed | meaning |\n|---|---|---|---|---|---|\n");
+    for (const ParamSpec& spec : info.params) {
+      fmt::print("| `{}` | {} | {} | `{}` | {} | {} |\n", spec.name, phase(spec.phase), spec.type_name(),
+                 format_param_value(spec.default_value), spec.range_text(), spec.meaning);
+    }
+    fmt::print("\n## Capabilities\n\n| capability | supported |\n|---|---|\n");
+    for (const auto& [capability, value] : info.capabilities.entries()) {
+      fmt::print("| {} | {} |\n", capability, value ? "yes" : "no");
+    }
+    if (!info.capabilities.notes.empty()) {
+      fmt::print("\nNotes:\n\n");
+      for (const auto& [capability, note] : info.capabilities.notes) fmt::print("- {}: {}\n", capability, note);
+    }
+    return 0;
+  }
+  fmt::print("{}: {}\npaper: {}\n\nknobs (build knobs feed prepare(), render knobs feed render()):\n", info.name,
+             info.summary, info.paper);
+  for (const ParamSpec& spec : info.params) {
+    fmt::print("  {:<24} {:<6} {:<8} default {:<10} allowed {}\n      {}\n", spec.name, phase(spec.phase),
+               spec.type_name(), format_param_value(spec.default_value), spec.range_text(), spec.meaning);
+  }
+  fmt::print("\ncapabilities:\n");
+  for (const auto& [capability, value] : info.capabilities.entries()) {
+    fmt::print("  {:<26} {}\n", capability, value ? "yes" : "no");
+  }
+  for (const auto& [capability, note] : info.capabilities.notes) fmt::print("  note: {}: {}\n", capability, note);
+  return 0;
+}
+
+int run_validate(const std::string& file) {
+  Scene scene = load_scene(file);
+  size_t specular = 0;
+  for (const SceneObject& object : scene.objects) specular += object.material.is_specular() ? 1 : 0;
+  fmt::print("{}: valid scene '{}': {}x{} camera, {} light(s), {} object(s) ({} specular), {} frame(s)\n", file,
+             scene.name, scene.camera.width, scene.camera.height, scene.lights.size(), scene.objects.size(), specular,
+             scene.frames);
+  return 0;
+}
+
+}  // namespace causticbench

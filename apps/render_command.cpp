@@ -1,0 +1,91 @@
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "apps/commands.h"
+#include "core/direct_lighting.h"
+#include "core/files.h"
+#include "core/image_statistics.h"
+#include "core/parallel.h"
+#include "methods/method_runner.h"
+
+namespace causticbench {
+
+void parse_resolution(const std::string& text, int& width, int& height) {
+  size_t x = text.find('x');
+  try {
+    size_t used_w = 0, used_h = 0;
+    if (x == std::string::npos) throw std::invalid_argument("no x");
+    width = std::stoi(text.substr(0, x), &used_w);
+    height = std::stoi(text.substr(x + 1), &used_h);
+    if (used_w != x || used_h != text.size() - x - 1 || width < 1 || height < 1 || width > 16384 || height > 16384) {
+      throw std::invalid_argument("range");
+    }
+  } catch (const std::exception&) {
+    throw InputError(fmt::format("--resolution: expected WIDTHxHEIGHT with each in [1, 16384], found '{}'", text));
+  }
+}
+
+int run_render(const RenderOptions& options) {
+  // Everything is checked before any work starts.
+  Scene scene = load_scene(options.scene);
+  if (!options.resolution.empty()) {
+    int width, height;
+    parse_resolution(options.resolution, width, height);
+    set_resolution(scene, width, height);
+  }
+  RenderRequest request;
+  request.scene = &scene;
+  request.method = options.method;
+  request.frame = options.frame;
+  for (const std::string& assignment : options.assignments) request.params.set_assignment(assignment, "--set");
+  CheckedRequest checked = check_request(request);
+  ensure_folder(options.out);
+
+  ThreadLimit limit(options.threads);
+  fmt::print(stderr, "rendering {} with {} at {}x{}, frame {}\n", options.scene, options.method, scene.camera.width,
+             scene.camera.height, options.frame);
+  Image direct;
+  FrameResult result = run_frame(request, checked, &direct, options.direct_samples);
+
+  namespace fs = std::filesystem;
+  std::string out = options.out;
+  write_exr(result.caustic, (fs::path(out) / "caustic.exr").string());
+  write_exr(direct, (fs::path(out) / "direct.exr").string());
+  write_exr(result.gbuffer.to_image(), (fs::path(out) / "gbuffer.exr").string(),
+            {"position.X", "position.Y", "position.Z", "normal.X", "normal.Y", "normal.Z", "albedo.R", "albedo.G",
+             "albedo.B", "object", "receiver", "footprint"});
+  Image composite = composite_radiance(result.gbuffer, direct, result.caustic);
+  // Expose so that the mean radiance of the receivers maps to a mid grey.
+  double mean = masked_mean(composite, result.gbuffer.receiver);
+  float exposure = mean > 0.0 ? static_cast<float>(0.18 / mean) : 1.0f;
+  write_png(composite, (fs::path(out) / "composite.png").string(), exposure);
+  double caustic_mean = masked_mean(result.caustic, result.gbuffer.receiver);
+  write_png(result.caustic, (fs::path(out) / "caustic.png").string(),
+            caustic_mean > 0.0 ? static_cast<float>(0.18 / caustic_mean) : 1.0f);
+
+  nlohmann::json counters = nlohmann::json::object();
+  for (const auto& [name, value] : result.counters) counters[name] = value;
+  nlohmann::json record = {
+      {"scene", options.scene},
+      {"scene_name", scene.name},
+      {"method", options.method},
+      {"params", checked.params.to_json()},
+      {"frame", options.frame},
+      {"resolution", {scene.camera.width, scene.camera.height}},
+      {"receiver_pixels", result.gbuffer.receiver_count()},
+      {"timings", {{"prepare_seconds", result.timings.prepare_seconds},
+                   {"update_milliseconds", result.timings.update_milliseconds},
+                   {"render_milliseconds", result.timings.render_milliseconds}}},
+      {"memory_bytes", result.memory_bytes},
+      {"counters", counters},
+      {"method_record", result.method_record},
+      {"caustic_flux_on_receivers", masked_sum(result.caustic, result.gbuffer.receiver)},
+      {"environment", environment_json(options.threads)},
+      {"files", {"caustic.exr", "direct.exr", "gbuffer.exr", "composite.png", "caustic.png"}}};
+  write_text_atomically((fs::path(out) / "record.json").string(), record.dump(2) + "\n");
+  fmt::print("wrote {}/caustic.exr, direct.exr, gbuffer.exr, composite.png, caustic.png, record.json\n", out);
+  return 0;
+}
+
+}  // namespace causticbench

@@ -1,0 +1,82 @@
+#include "core/assets.h"
+
+#include <cstdlib>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+namespace causticbench {
+
+namespace fs = std::filesystem;
+
+const std::vector<KnownAsset>& known_assets() {
+  static const std::vector<KnownAsset> assets = {
+      {"bunny", "glmark2/models/bunny.obj", "glmark2-data"},
+      {"forest", "blender/datafiles/studiolights/world/forest.exr", "blender-data"},
+      {"city", "blender/datafiles/studiolights/world/city.exr", "blender-data"},
+      {"courtyard", "blender/datafiles/studiolights/world/courtyard.exr", "blender-data"},
+      {"interior", "blender/datafiles/studiolights/world/interior.exr", "blender-data"},
+      {"night", "blender/datafiles/studiolights/world/night.exr", "blender-data"},
+      {"studio", "blender/datafiles/studiolights/world/studio.exr", "blender-data"},
+      {"sunrise", "blender/datafiles/studiolights/world/sunrise.exr", "blender-data"},
+      {"sunset", "blender/datafiles/studiolights/world/sunset.exr", "blender-data"},
+  };
+  return assets;
+}
+
+std::vector<std::string> asset_search_path(const std::string& scene_folder) {
+  std::vector<std::string> folders;
+  if (!scene_folder.empty()) folders.push_back(scene_folder);
+  if (const char* extra = std::getenv("CAUSTICBENCH_ASSET_PATH")) {
+    std::string list = extra;
+    size_t start = 0;
+    while (start <= list.size()) {
+      size_t end = list.find(':', start);
+      if (end == std::string::npos) end = list.size();
+      if (end > start) folders.push_back(list.substr(start, end - start));
+      start = end + 1;
+    }
+  }
+#ifdef CAUSTICBENCH_SOURCE_DIR
+  folders.push_back(std::string(CAUSTICBENCH_SOURCE_DIR) + "/assets");
+#endif
+  folders.push_back("/usr/share");
+  folders.push_back("/usr/local/share");
+  return folders;
+}
+
+std::string resolve_asset(const std::string& name, const AssetKind& kind, const std::string& scene_folder,
+                          const SourceLocation& where) {
+  std::vector<std::string> folders = asset_search_path(scene_folder);
+  std::vector<std::string> candidates;
+  const KnownAsset* known = nullptr;
+  for (const KnownAsset& asset : known_assets()) {
+    if (asset.name == name) known = &asset;
+  }
+  if (known) candidates.push_back(known->relative_path);
+  candidates.push_back(name);
+  if (fs::path(name).extension().empty()) {
+    for (const std::string& extension : kind.extensions) candidates.push_back(name + extension);
+  }
+  if (fs::path(name).is_absolute()) {
+    if (fs::is_regular_file(name)) return name;
+  } else {
+    for (const std::string& folder : folders) {
+      for (const std::string& candidate : candidates) {
+        fs::path path = fs::path(folder) / candidate;
+        if (fs::is_regular_file(path)) return fs::absolute(path).lexically_normal().string();
+      }
+    }
+  }
+  std::vector<std::string> known_names;
+  for (const KnownAsset& asset : known_assets()) known_names.push_back(asset.name);
+  std::string hint = known ? fmt::format("; it is shipped by the Debian package '{}': run scripts/setup.sh "
+                                         "(or apt-get install {})",
+                                         known->package, known->package)
+                           : fmt::format("; put the file in one of those folders or in $CAUSTICBENCH_ASSET_PATH{}",
+                                         did_you_mean(name, known_names));
+  throw InputError(fmt::format("{}: {} asset '{}' not found; searched {}{}", where.describe(), kind.what, name,
+                               join(folders, ", "), hint));
+}
+
+}  // namespace causticbench

@@ -1,0 +1,42 @@
+// Errors in user input (scene, experiment, asset, command line) and the helpers that make them clear.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace causticbench {
+
+// Where a piece of input came from: a file with 1-based line and column, or a description such as
+// "--set" for command-line values. Line 0 means "no position known".
+struct SourceLocation {
+  std::string file;
+  int line = 0;
+  int column = 0;
+
+  std::string describe() const;
+};
+
+// Thrown for every defect in user input. The command line turns it into exit code 2 before any work
+// starts; the message already names the file, line, column, key, what was expected and what was found.
+class InputError : public std::runtime_error {
+ public:
+  explicit InputError(const std::string& message) : std::runtime_error(message) {}
+};
+
+[[noreturn]] void throw_input_error(const SourceLocation& where, std::string_view key, std::string_view expected,
+                                    std::string_view found);
+
+// Levenshtein distance, for "did you mean" suggestions.
+size_t edit_distance(std::string_view a, std::string_view b);
+
+// The closest candidate within a small edit distance, or "" when none is close enough.
+std::string closest_match(std::string_view word, const std::vector<std::string>& candidates);
+
+// " (did you mean 'x'?)" or "" when nothing is close.
+std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates);
+
+std::string join(const std::vector<std::string>& words, std::string_view separator);
+
+}  // namespace causticbench

@@ -1,0 +1,36 @@
+#include "core/files.h"
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+
+namespace causticbench {
+
+void write_text_atomically(const std::string& path, const std::string& text) {
+  std::string temporary = fmt::format("{}.partial.{}", path, getpid());
+  {
+    std::ofstream stream(temporary, std::ios::binary | std::ios::trunc);
+    if (!stream) throw std::runtime_error(fmt::format("{}: cannot write", temporary));
+    stream << text;
+    stream.flush();
+    if (!stream) throw std::runtime_error(fmt::format("{}: write failed", temporary));
+  }
+  std::filesystem::rename(temporary, path);
+}
+
+void ensure_folder(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::exists(path) && !std::filesystem::is_directory(path)) {
+    throw InputError(fmt::format("{}: expected an output folder, found an existing file", path));
+  }
+  std::filesystem::create_directories(path, error);
+  if (error) throw InputError(fmt::format("{}: cannot create the output folder: {}", path, error.message()));
+}
+
+}  // namespace causticbench

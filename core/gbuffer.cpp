@@ -1,0 +1,65 @@
+#include "core/gbuffer.h"
+
+#include "core/parallel.h"
+
+namespace causticbench {
+
+size_t GBuffer::receiver_count() const {
+  size_t count = 0;
+  for (uint8_t r : receiver) count += r;
+  return count;
+}
+
+Image GBuffer::to_image() const {
+  Image image(width, height, 12);
+  for (size_t i = 0; i < pixel_count(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      image.at(i, c) = position[i][c];
+      image.at(i, 3 + c) = normal[i][c];
+      image.at(i, 6 + c) = albedo[i][c];
+    }
+    image.at(i, 9) = static_cast<float>(object[i]);
+    image.at(i, 10) = receiver[i];
+    image.at(i, 11) = footprint[i];
+  }
+  return image;
+}
+
+GBuffer render_gbuffer(const Tracer& tracer) {
+  const SceneFrame& frame = tracer.frame();
+  GBuffer gbuffer;
+  gbuffer.width = frame.camera.width();
+  gbuffer.height = frame.camera.height();
+  size_t count = gbuffer.pixel_count();
+  gbuffer.position.assign(count, Vec3(0.0f));
+  gbuffer.normal.assign(count, Vec3(0.0f));
+  gbuffer.albedo.assign(count, Color(0.0f));
+  gbuffer.object.assign(count, -1);
+  gbuffer.receiver.assign(count, 0);
+  gbuffer.footprint.assign(count, 0.0f);
+  parallel_blocks(count, 1024, [&](size_t begin, size_t end, size_t) {
+    for (size_t i = begin; i < end; ++i) {
+      int x = static_cast<int>(i % gbuffer.width), y = static_cast<int>(i / gbuffer.width);
+      Ray ray = frame.camera.primary_ray(x, y);
+      SurfaceHit hit;
+      if (!tracer.intersect(ray, hit)) continue;
+      const Material& material = frame.scene->objects[hit.object].material;
+      Vec3 normal = hit.shading_normal;
+      if (glm::dot(normal, ray.direction) > 0.0f) normal = -normal;
+      gbuffer.position[i] = hit.position;
+      gbuffer.normal[i] = normal;
+      gbuffer.object[i] = hit.object;
+      if (material.receives_caustics()) {
+        gbuffer.receiver[i] = 1;
+        gbuffer.albedo[i] = material.albedo;
+      }
+      float along_view = hit.t * std::abs(glm::dot(ray.direction, glm::normalize(frame.camera.primary_ray(
+                                                                       gbuffer.width / 2, gbuffer.height / 2).direction)));
+      float cosine = std::max(0.05f, std::abs(glm::dot(normal, ray.direction)));
+      gbuffer.footprint[i] = frame.camera.pixel_footprint(along_view) / std::sqrt(cosine);
+    }
+  });
+  return gbuffer;
+}
+
+}  // namespace causticbench

@@ -1,0 +1,30 @@
+// The G-buffer: what one primary ray per pixel sees. Every method writes caustic irradiance for these
+// points, so every comparison is pixel for pixel.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/image.h"
+#include "core/tracer.h"
+
+namespace causticbench {
+
+struct GBuffer {
+  int width = 0, height = 0;
+  std::vector<Vec3> position;
+  std::vector<Vec3> normal;        // shading normal, turned to face the camera
+  std::vector<Color> albedo;       // diffuse albedo (zero where the surface has no diffuse part)
+  std::vector<int> object;         // -1 for background
+  std::vector<uint8_t> receiver;   // 1 where the surface has a diffuse part: in E_c and in every metric
+  std::vector<float> footprint;    // side of the pixel's footprint on the surface plane, scene units
+
+  size_t pixel_count() const { return static_cast<size_t>(width) * height; }
+  size_t receiver_count() const;
+  // position/normal/albedo/object/mask as a multi-channel EXR-ready image.
+  Image to_image() const;
+};
+
+GBuffer render_gbuffer(const Tracer& tracer);
+
+}  // namespace causticbench

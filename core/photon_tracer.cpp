@@ -1,0 +1,200 @@
+#include "core/photon_tracer.h"
+
+#include "core/optics.h"
+#include "core/parallel.h"
+
+namespace causticbench {
+
+CausticPhotonTracer::CausticPhotonTracer(const Tracer& tracer, PhotonTracerSettings settings)
+    : tracer_(tracer), settings_(settings) {
+  const SceneFrame& frame = tracer.frame();
+  for (int object : frame.specular_objects()) {
+    targets_.push_back(frame.bounds[object]);
+    target_area_ += kPiDouble * frame.bounds[object].radius * frame.bounds[object].radius;
+  }
+  // Choose lights in proportion to the flux they aim at the targets (estimated from luminance).
+  std::vector<double> weights;
+  for (const LightFrame& light : frame.lights) {
+    double weight = 0.0;
+    switch (light.kind) {
+      case LightKind::directional:
+      case LightKind::gaussian_spot: weight = luminance(light.light->irradiance) * target_area_; break;
+      case LightKind::environment_image:
+        weight = luminance(light.light->environment->upward_irradiance()) * 2.0 * target_area_;
+        break;
+      case LightKind::point: {
+        double solid_angle = 0.0;
+        for (const BoundingSphere& target : targets_) {
+          double distance = glm::length(target.center - light.position);
+          double cos_max = distance > target.radius + light.radius
+                               ? std::sqrt(1.0 - std::pow(target.radius / (distance - light.radius), 2.0))
+                               : -1.0;
+          solid_angle += 2.0 * kPiDouble * (1.0 - cos_max);
+        }
+        weight = luminance(light.light->intensity) * solid_angle;
+        break;
+      }
+    }
+    weights.push_back(std::max(0.0, weight));
+  }
+  light_choice_ = Distribution1D(weights);
+  total_weight_ = light_choice_.total();
+}
+
+bool CausticPhotonTracer::emit(Random& random, Ray& ray, Color& power) const {
+  double light_probability;
+  size_t light_index = light_choice_.sample(random.uniform_double(), light_probability);
+  const LightFrame& light = tracer_.frame().lights[light_index];
+  // Choose a target with probability proportional to its weight, then count every target the
+  // resulting ray could also have come from: the one-sample balance weight of Veach, exact for overlaps.
+  if (light.kind == LightKind::point) {
+    Vec3 origin = light.sample_position(random.uniform(), random.uniform());
+    thread_local std::vector<float> cos_max;
+    cos_max.resize(targets_.size());
+    double solid_angle_sum = 0.0;
+    for (size_t i = 0; i < targets_.size(); ++i) {
+      float distance = glm::length(targets_[i].center - origin);
+      cos_max[i] = distance > targets_[i].radius
+                       ? std::sqrt(std::max(0.0f, 1.0f - (targets_[i].radius / distance) * (targets_[i].radius / distance)))
+                       : -1.0f;
+      solid_angle_sum += 2.0 * kPiDouble * (1.0 - cos_max[i]);
+    }
+    double pick = random.uniform_double() * solid_angle_sum, accumulated = 0.0;
+    size_t chosen = targets_.size() - 1;
+    for (size_t i = 0; i < targets_.size(); ++i) {
+      accumulated += 2.0 * kPiDouble * (1.0 - cos_max[i]);
+      if (pick < accumulated) {
+        chosen = i;
+        break;
+      }
+    }
+    Vec3 axis = cos_max[chosen] > -1.0f ? glm::normalize(targets_[chosen].center - origin) : Vec3(0, 1, 0);
+    Vec3 direction = sample_cone(axis, cos_max[chosen], random.uniform(), random.uniform());
+    int covering = 0;
+    for (size_t i = 0; i < targets_.size(); ++i) {
+      if (cos_max[i] <= -1.0f) {
+        ++covering;
+        continue;
+      }
+      Vec3 to_center = glm::normalize(targets_[i].center - origin);
+      if (glm::dot(direction, to_center) >= cos_max[i]) ++covering;
+    }
+    covering = std::max(covering, 1);
+    power = light.light->intensity * static_cast<float>(solid_angle_sum / covering / light_probability);
+    ray.origin = origin;
+    ray.direction = direction;
+    ray.t_min = 0.0f;
+    ray.t_max = 1e30f;
+    return true;
+  }
+  Color radiance_over_pdf;
+  Vec3 to_light = light.sample_direction(random.uniform(), random.uniform(), random.uniform(), radiance_over_pdf);
+  if (max_component(radiance_over_pdf) <= 0.0f) return false;
+  double pick = random.uniform_double() * target_area_, accumulated = 0.0;
+  size_t chosen = targets_.size() - 1;
+  for (size_t i = 0; i < targets_.size(); ++i) {
+    accumulated += kPiDouble * targets_[i].radius * targets_[i].radius;
+    if (pick < accumulated) {
+      chosen = i;
+      break;
+    }
+  }
+  Vec3 t, b;
+  orthonormal_basis(to_light, t, b);
+  float x, y;
+  sample_disk(random.uniform(), random.uniform(), x, y);
+  Vec3 point = targets_[chosen].center + targets_[chosen].radius * (x * t + y * b);
+  int covering = 0;
+  for (const BoundingSphere& target : targets_) {
+    Vec3 offset = target.center - point;
+    Vec3 across = offset - glm::dot(offset, to_light) * to_light;
+    if (glm::dot(across, across) <= target.radius * target.radius * 1.000001f) ++covering;
+  }
+  covering = std::max(covering, 1);
+  const BoundingSphere& scene = tracer_.frame().scene_bounds;
+  float back = glm::dot(scene.center - point, to_light) + scene.radius * 1.01f;
+  ray.origin = point + to_light * back;
+  ray.direction = -to_light;
+  ray.t_min = 0.0f;
+  ray.t_max = 1e30f;
+  power = radiance_over_pdf * static_cast<float>(target_area_ / covering / light_probability);
+  return true;
+}
+
+void CausticPhotonTracer::trace_one(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats) const {
+  Random random(settings_.seed, index);
+  ++stats.emitted;
+  Ray ray;
+  Color power;
+  if (!emit(random, ray, power)) return;
+  const Scene& scene = *tracer_.frame().scene;
+  float initial = max_component(power);
+  int specular_bounces = 0;
+  for (int depth = 0; depth <= settings_.max_bounces; ++depth) {
+    SurfaceHit hit;
+    ++stats.rays;
+    if (!tracer_.intersect(ray, hit)) return;
+    const Material& material = scene.objects[hit.object].material;
+    bool from_outside = glm::dot(ray.direction, hit.geometric_normal) < 0.0f;
+    if (material.receives_caustics()) {
+      if (specular_bounces > 0) {
+        Vec3 arrival_normal = from_outside ? hit.geometric_normal : -hit.geometric_normal;
+        photons.push_back(Photon{hit.position, arrival_normal, ray.direction, power});
+        ++stats.deposited;
+      }
+      if (material.kind != MaterialKind::diffuse_mirror) return;
+    }
+    Vec3 normal = glm::dot(ray.direction, hit.shading_normal) < 0.0f ? hit.shading_normal : -hit.shading_normal;
+    float cos_incident = -glm::dot(ray.direction, normal);
+    Vec3 next;
+    if (material.kind == MaterialKind::glass) {
+      if (!from_outside) {
+        // The segment just travelled was inside the glass: Beer-Lambert absorption over its length.
+        power *= glm::exp(-material.absorption * hit.t);
+      }
+      float eta = from_outside ? material.ior : 1.0f / material.ior;
+      float reflectance = fresnel_dielectric(cos_incident, eta);
+      // Choosing reflection with probability F and refraction with 1 - F leaves the power unchanged.
+      if (random.uniform() < reflectance || !refract(ray.direction, normal, eta, next)) {
+        next = reflect(ray.direction, normal);
+      }
+    } else {
+      power *= material.mirror_reflectance(cos_incident);
+      next = reflect(ray.direction, normal);
+    }
+    ++specular_bounces;
+    if (specular_bounces >= settings_.roulette_after) {
+      float survival = std::min(1.0f, max_component(power) / initial);
+      if (random.uniform() >= survival) return;
+      power /= survival;
+    }
+    if (max_component(power) <= 0.0f) return;
+    ray = tracer_.spawn(hit, next);
+  }
+}
+
+void CausticPhotonTracer::trace(uint64_t first, uint64_t count, std::vector<Photon>& photons,
+                                PhotonStats& stats) const {
+  if (targets_.empty() || total_weight_ <= 0.0) {
+    stats.emitted += count;
+    return;
+  }
+  const size_t block_size = 8192;
+  size_t blocks = (count + block_size - 1) / block_size;
+  std::vector<std::vector<Photon>> block_photons(blocks);
+  std::vector<PhotonStats> block_stats(blocks);
+  parallel_blocks(count, block_size, [&](size_t begin, size_t end, size_t block) {
+    std::vector<Photon>& local = block_photons[block];
+    local.reserve((end - begin) / 2);
+    for (size_t i = begin; i < end; ++i) trace_one(first + i, local, block_stats[block]);
+  });
+  size_t total = photons.size();
+  for (const auto& block : block_photons) total += block.size();
+  photons.reserve(total);
+  for (size_t block = 0; block < blocks; ++block) {
+    photons.insert(photons.end(), block_photons[block].begin(), block_photons[block].end());
+    stats.add(block_stats[block]);
+  }
+}
+
+}  // namespace causticbench

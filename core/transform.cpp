@@ -1,0 +1,132 @@
+#include "core/transform.h"
+
+#include <algorithm>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/matrix_inverse.hpp>
+
+namespace causticbench {
+
+Transform Transform::from_parts(const glm::dvec3& translate, const glm::dvec3& rotate_degrees,
+                                const glm::dvec3& scale) {
+  glm::dmat4 m(1.0);
+  m = glm::translate(m, translate);
+  m = glm::rotate(m, glm::radians(rotate_degrees.z), glm::dvec3(0, 0, 1));
+  m = glm::rotate(m, glm::radians(rotate_degrees.y), glm::dvec3(0, 1, 0));
+  m = glm::rotate(m, glm::radians(rotate_degrees.x), glm::dvec3(1, 0, 0));
+  m = glm::scale(m, scale);
+  return Transform{m, glm::inverse(m)};
+}
+
+Vec3 Transform::point(const Vec3& p) const { return Vec3(matrix * glm::dvec4(glm::dvec3(p), 1.0)); }
+Vec3 Transform::vector(const Vec3& v) const { return Vec3(matrix * glm::dvec4(glm::dvec3(v), 0.0)); }
+Vec3 Transform::normal(const Vec3& n) const {
+  glm::dvec3 transformed = glm::transpose(glm::dmat3(inverse)) * glm::dvec3(n);
+  return Vec3(glm::normalize(transformed));
+}
+Vec3 Transform::inverse_point(const Vec3& p) const { return Vec3(inverse * glm::dvec4(glm::dvec3(p), 1.0)); }
+Vec3 Transform::inverse_vector(const Vec3& v) const { return Vec3(inverse * glm::dvec4(glm::dvec3(v), 0.0)); }
+
+double Transform::max_scale() const {
+  glm::dmat3 linear(matrix);
+  return std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
+}
+
+glm::dvec3 Vec3Track::at(double frame) const {
+  if (keys.size() == 1 || frame <= keys.front().first) return keys.front().second;
+  if (frame >= keys.back().first) return keys.back().second;
+  for (size_t i = 1; i < keys.size(); ++i) {
+    if (frame <= keys[i].first) {
+      double t = (frame - keys[i - 1].first) / (keys[i].first - keys[i - 1].first);
+      return glm::mix(keys[i - 1].second, keys[i].second, t);
+    }
+  }
+  return keys.back().second;
+}
+
+namespace {
+
+glm::dvec3 read_scale(const ConfigNode& node) {
+  ConfigNode value = node.child("scale");
+  if (value.is_scalar()) {
+    double s = value.as_number();
+    if (s <= 0.0) value.fail_here("a positive scale", value.describe_value());
+    return glm::dvec3(s);
+  }
+  glm::dvec3 s = node.vec3("scale");
+  if (s.x <= 0.0 || s.y <= 0.0 || s.z <= 0.0) value.fail_here("three positive scale factors", value.describe_value());
+  return s;
+}
+
+glm::dvec3 read_component(const ConfigNode& node, const std::string& key, const glm::dvec3& fallback) {
+  if (!node.has(key)) return fallback;
+  return key == "scale" ? read_scale(node) : node.vec3(key);
+}
+
+}  // namespace
+
+Vec3Track read_vec3_track(const ConfigNode& owner, const std::string& key, const glm::dvec3* fallback) {
+  Vec3Track track;
+  if (fallback == nullptr || owner.has(key)) {
+    track.keys.push_back({0.0, key == "scale" ? read_scale(owner) : owner.vec3(key)});
+  } else {
+    track.keys.push_back({0.0, *fallback});
+  }
+  std::optional<ConfigNode> animation = owner.optional_child("animation");
+  if (!animation) return track;
+  ConfigNode keyframes = animation->child("keyframes");
+  std::vector<std::pair<double, glm::dvec3>> animated;
+  for (size_t i = 0; i < keyframes.size(); ++i) {
+    ConfigNode keyframe = keyframes.at(i);
+    if (!keyframe.has(key)) continue;
+    double frame = keyframe.number("frame", 0.0, 1e9);
+    animated.push_back({frame, read_component(keyframe, key, glm::dvec3(0.0))});
+  }
+  if (animated.empty()) return track;
+  std::stable_sort(animated.begin(), animated.end(), [](auto& a, auto& b) { return a.first < b.first; });
+  for (size_t i = 1; i < animated.size(); ++i) {
+    if (animated[i].first == animated[i - 1].first) {
+      keyframes.fail_here("keyframes with distinct frame numbers", "frame " + std::to_string(animated[i].first) + " twice");
+    }
+  }
+  track.keys = animated;
+  return track;
+}
+
+AnimatedTransform read_animated_transform(const ConfigNode& object) {
+  AnimatedTransform result;
+  std::optional<ConfigNode> transform = object.optional_child("transform");
+  glm::dvec3 zero(0.0), one(1.0);
+  if (transform) {
+    result.translate = Vec3Track::constant(read_component(*transform, "translate", zero));
+    result.rotate = Vec3Track::constant(read_component(*transform, "rotate", zero));
+    result.scale = Vec3Track::constant(read_component(*transform, "scale", one));
+    transform->finish();
+  }
+  std::optional<ConfigNode> animation = object.optional_child("animation");
+  if (!animation) return result;
+  ConfigNode keyframes = animation->child("keyframes");
+  if (keyframes.size() < 2) keyframes.fail_here("at least two keyframes", keyframes.describe_value());
+  auto animate = [&](Vec3Track& track, const std::string& key) {
+    std::vector<std::pair<double, glm::dvec3>> keys;
+    for (size_t i = 0; i < keyframes.size(); ++i) {
+      ConfigNode keyframe = keyframes.at(i);
+      if (keyframe.has(key)) keys.push_back({keyframe.number("frame", 0.0, 1e9), read_component(keyframe, key, zero)});
+    }
+    if (keys.empty()) return;
+    std::stable_sort(keys.begin(), keys.end(), [](auto& a, auto& b) { return a.first < b.first; });
+    track.keys = keys;
+  };
+  animate(result.translate, "translate");
+  animate(result.rotate, "rotate");
+  animate(result.scale, "scale");
+  for (size_t i = 0; i < keyframes.size(); ++i) keyframes.at(i).finish();
+  animation->finish();
+  return result;
+}
+
+Transform AnimatedTransform::at(double frame) const {
+  return Transform::from_parts(translate.at(frame), rotate.at(frame), scale.at(frame));
+}
+
+}  // namespace causticbench

@@ -1,0 +1,91 @@
+#include "methods/method_runner.h"
+
+#include <sys/utsname.h>
+
+#include <chrono>
+#include <fstream>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "core/direct_lighting.h"
+#include "core/parallel.h"
+
+namespace causticbench {
+
+CheckedRequest check_request(const RenderRequest& request) {
+  CheckedRequest checked;
+  checked.method = &find_method(request.method);
+  const MethodInfo& info = checked.method->info();
+  checked.params = request.params.resolve(info.params, info.name);
+  if (request.frame < 0 || request.frame >= request.scene->frames) {
+    throw InputError(fmt::format("frame {} is outside the scene's animation: expected 0 to {} ({} frames in {})",
+                                 request.frame, request.scene->frames - 1, request.scene->frames,
+                                 request.scene->source));
+  }
+  checked.method->create()->check_scene(*request.scene);
+  return checked;
+}
+
+FrameResult run_frame(const RenderRequest& request, const CheckedRequest& checked, Image* direct, int direct_samples) {
+  using Clock = std::chrono::steady_clock;
+  auto seconds_since = [](Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+  };
+  FrameResult result;
+  const MethodInfo& info = checked.method->info();
+  std::unique_ptr<CausticMethod> method = checked.method->create();
+  SceneFrame frame(*request.scene, request.frame);
+  Tracer tracer(frame);
+  result.gbuffer = render_gbuffer(tracer);
+
+  auto start = Clock::now();
+  method->prepare(*request.scene, select_phase(checked.params, info.params, ParamPhase::build));
+  result.timings.prepare_seconds = seconds_since(start);
+
+  start = Clock::now();
+  method->update(FrameContext{frame, tracer});
+  result.timings.update_milliseconds = seconds_since(start) * 1e3;
+
+  start = Clock::now();
+  result.caustic = method->render(result.gbuffer, select_phase(checked.params, info.params, ParamPhase::render));
+  result.timings.render_milliseconds = seconds_since(start) * 1e3;
+
+  result.memory_bytes = method->memory_bytes();
+  result.counters = method->counters();
+  result.method_record = method->record();
+  // Masked pixels carry no caustic value, whatever the method wrote there.
+  for (size_t pixel = 0; pixel < result.gbuffer.pixel_count(); ++pixel) {
+    if (!result.gbuffer.receiver[pixel]) result.caustic.set_rgb(pixel, Color(0.0f));
+  }
+  if (direct) *direct = direct_irradiance(tracer, result.gbuffer, direct_samples, 12345);
+  return result;
+}
+
+nlohmann::json environment_json(int threads) {
+  utsname name{};
+  uname(&name);
+  std::string cpu = "unknown";
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  for (std::string line; std::getline(cpuinfo, line);) {
+    if (line.rfind("model name", 0) == 0) {
+      cpu = line.substr(line.find(':') + 2);
+      break;
+    }
+  }
+#ifdef NDEBUG
+  const char* build_type = "Release";
+#else
+  const char* build_type = "Debug";
+#endif
+  return {{"machine", fmt::format("{} {} {}", name.sysname, name.release, name.machine)},
+          {"cpu", cpu},
+          {"hardware_threads", std::thread::hardware_concurrency()},
+          {"threads", threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency())},
+          {"compiler", fmt::format("{} {}", "g++", __VERSION__)},
+          {"build_type", build_type},
+          {"git_revision", CAUSTICBENCH_GIT_REVISION},
+          {"compute_device", "cpu"}};
+}
+
+}  // namespace causticbench

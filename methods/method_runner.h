@@ -1,0 +1,51 @@
+// Runs one method on one frame of a scene through its three timed phases. Shared by `causticbench
+// render` and the experiment runner.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "methods/registry.h"
+
+namespace causticbench {
+
+struct PhaseTimings {
+  double prepare_seconds = 0.0;
+  double update_milliseconds = 0.0;
+  double render_milliseconds = 0.0;
+};
+
+// Everything a render needs, checked before any work starts (InputError on any defect).
+struct RenderRequest {
+  const Scene* scene = nullptr;
+  std::string method;
+  ParamDict params;
+  int frame = 0;
+};
+
+struct CheckedRequest {
+  const MethodEntry* method = nullptr;
+  ParamSet params;  // all knobs, resolved with defaults
+};
+
+CheckedRequest check_request(const RenderRequest& request);
+
+struct FrameResult {
+  GBuffer gbuffer;
+  Image caustic;
+  PhaseTimings timings;
+  size_t memory_bytes = 0;
+  Counters counters;
+  nlohmann::json method_record;
+};
+
+// Poses the frame, builds the tracer and the G-buffer, then prepare/update/render. If `direct` is not
+// null it also receives the direct irradiance (for the composite) computed with `direct_samples`.
+FrameResult run_frame(const RenderRequest& request, const CheckedRequest& checked, Image* direct = nullptr,
+                      int direct_samples = 16);
+
+nlohmann::json environment_json(int threads);
+
+}  // namespace causticbench

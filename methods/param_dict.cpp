@@ -1,0 +1,158 @@
+#include "methods/param_dict.h"
+
+#include <cmath>
+#include <cstdlib>
+
+#include <fmt/format.h>
+
+namespace causticbench {
+
+ParamSpec ParamSpec::integer(std::string name, int64_t fallback, double min_value, double max_value,
+                             std::string meaning, ParamPhase phase) {
+  return ParamSpec{std::move(name), ParamType::integer, fallback, min_value, max_value, {}, std::move(meaning), phase};
+}
+ParamSpec ParamSpec::real(std::string name, double fallback, double min_value, double max_value, std::string meaning,
+                          ParamPhase phase) {
+  return ParamSpec{std::move(name), ParamType::real, fallback, min_value, max_value, {}, std::move(meaning), phase};
+}
+ParamSpec ParamSpec::boolean(std::string name, bool fallback, std::string meaning, ParamPhase phase) {
+  return ParamSpec{std::move(name), ParamType::boolean, fallback, 0, 1, {}, std::move(meaning), phase};
+}
+ParamSpec ParamSpec::choice(std::string name, std::string fallback, std::vector<std::string> choices,
+                            std::string meaning, ParamPhase phase) {
+  return ParamSpec{std::move(name), ParamType::choice, std::move(fallback), 0, 0, std::move(choices),
+                   std::move(meaning), phase};
+}
+
+std::string ParamSpec::type_name() const {
+  switch (type) {
+    case ParamType::integer: return "integer";
+    case ParamType::real: return "real";
+    case ParamType::boolean: return "boolean";
+    case ParamType::choice: return "choice";
+  }
+  return "?";
+}
+
+std::string ParamSpec::range_text() const {
+  switch (type) {
+    case ParamType::integer:
+    case ParamType::real: return fmt::format("[{}, {}]", min_value, max_value);
+    case ParamType::boolean: return "true, false";
+    case ParamType::choice: return join(choices, ", ");
+  }
+  return "";
+}
+
+std::string format_param_value(const ParamValue& value) {
+  return std::visit([](const auto& v) -> std::string {
+    using T = std::decay_t<decltype(v)>;
+    if constexpr (std::is_same_v<T, bool>) return v ? "true" : "false";
+    else if constexpr (std::is_same_v<T, std::string>) return v;
+    else return fmt::format("{}", v);
+  }, value);
+}
+
+const ParamValue& ParamSet::get(const std::string& name) const {
+  auto it = values_.find(name);
+  if (it == values_.end()) throw std::logic_error("parameter '" + name + "' was not declared by the method");
+  return it->second;
+}
+int64_t ParamSet::integer(const std::string& name) const { return std::get<int64_t>(get(name)); }
+double ParamSet::real(const std::string& name) const { return std::get<double>(get(name)); }
+bool ParamSet::boolean(const std::string& name) const { return std::get<bool>(get(name)); }
+const std::string& ParamSet::text(const std::string& name) const { return std::get<std::string>(get(name)); }
+
+nlohmann::json ParamSet::to_json() const {
+  nlohmann::json result = nlohmann::json::object();
+  for (const auto& [name, value] : values_) {
+    std::visit([&](const auto& v) { result[name] = v; }, value);
+  }
+  return result;
+}
+
+void ParamDict::set(const std::string& key, const std::string& text, const SourceLocation& where) {
+  entries_[key] = Entry{text, where};
+}
+
+void ParamDict::set_assignment(const std::string& assignment, const std::string& origin) {
+  size_t equals = assignment.find('=');
+  if (equals == std::string::npos || equals == 0) {
+    throw InputError(fmt::format("{}: expected key=value, found '{}'", origin, assignment));
+  }
+  set(assignment.substr(0, equals), assignment.substr(equals + 1), SourceLocation{origin, 0, 0});
+}
+
+void ParamDict::set_from_config(const ConfigNode& map) {
+  for (const std::string& key : map.keys()) {
+    ConfigNode value = map.child(key);
+    set(key, value.as_string(), value.location());
+  }
+}
+
+ParamSet ParamDict::resolve(const std::vector<ParamSpec>& specs, const std::string& owner) const {
+  std::vector<std::string> names;
+  for (const ParamSpec& spec : specs) names.push_back(spec.name);
+  for (const auto& [key, entry] : entries_) {
+    bool known = false;
+    for (const std::string& name : names) known = known || name == key;
+    if (!known) {
+      std::string prefix = entry.where.describe();
+      throw InputError(fmt::format("{}{}unknown parameter '{}' for method '{}'{}; its parameters: {}", prefix,
+                                   prefix.empty() ? "" : ": ", key, owner, did_you_mean(key, names), join(names, ", ")));
+    }
+  }
+  ParamSet result;
+  for (const ParamSpec& spec : specs) {
+    auto it = entries_.find(spec.name);
+    if (it == entries_.end()) {
+      result.set(spec.name, spec.default_value);
+      continue;
+    }
+    const std::string& text = it->second.text;
+    const SourceLocation& where = it->second.where;
+    auto fail = [&](const std::string& expected) {
+      throw_input_error(where, owner + "." + spec.name, expected, "'" + text + "'");
+    };
+    switch (spec.type) {
+      case ParamType::boolean:
+        if (text == "true" || text == "yes" || text == "on") result.set(spec.name, true);
+        else if (text == "false" || text == "no" || text == "off") result.set(spec.name, false);
+        else fail("true or false");
+        break;
+      case ParamType::choice: {
+        bool found = false;
+        for (const std::string& option : spec.choices) found = found || option == text;
+        if (!found) fail("one of " + join(spec.choices, ", ") + did_you_mean(text, spec.choices));
+        result.set(spec.name, text);
+        break;
+      }
+      case ParamType::integer:
+      case ParamType::real: {
+        char* end = nullptr;
+        double number = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size()) fail(spec.type == ParamType::integer ? "an integer" : "a number");
+        if (!std::isfinite(number)) fail("a finite number");
+        if (number < spec.min_value || number > spec.max_value) fail(fmt::format("a value in {}", spec.range_text()));
+        if (spec.type == ParamType::integer) {
+          if (std::floor(number) != number) fail("an integer");
+          result.set(spec.name, static_cast<int64_t>(number));
+        } else {
+          result.set(spec.name, number);
+        }
+        break;
+      }
+    }
+  }
+  return result;
+}
+
+ParamSet select_phase(const ParamSet& all, const std::vector<ParamSpec>& specs, ParamPhase phase) {
+  ParamSet result;
+  for (const ParamSpec& spec : specs) {
+    if (spec.phase == phase && all.has(spec.name)) result.set(spec.name, all.values().at(spec.name));
+  }
+  return result;
+}
+
+}  // namespace causticbench

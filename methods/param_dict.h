@@ -1,0 +1,93 @@
+// Knobs. A method declares a ParamSpec per knob; values arrive as a ParamDict of text with the place
+// each came from (a YAML line or the command line), and resolve() checks them against the specs:
+// unknown keys fail with "did you mean", wrong types and out-of-range values fail with the file,
+// line and what was expected.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/config.h"
+#include "core/errors.h"
+
+namespace causticbench {
+
+enum class ParamType { integer, real, boolean, choice };
+// Build knobs feed prepare() (reused for every render knob); render knobs feed render().
+enum class ParamPhase { build, render };
+
+using ParamValue = std::variant<bool, int64_t, double, std::string>;
+
+struct ParamSpec {
+  std::string name;
+  ParamType type = ParamType::real;
+  ParamValue default_value;
+  double min_value = 0.0;
+  double max_value = 0.0;
+  std::vector<std::string> choices;
+  std::string meaning;
+  ParamPhase phase = ParamPhase::render;
+
+  static ParamSpec integer(std::string name, int64_t fallback, double min_value, double max_value, std::string meaning,
+                           ParamPhase phase);
+  static ParamSpec real(std::string name, double fallback, double min_value, double max_value, std::string meaning,
+                        ParamPhase phase);
+  static ParamSpec boolean(std::string name, bool fallback, std::string meaning, ParamPhase phase);
+  static ParamSpec choice(std::string name, std::string fallback, std::vector<std::string> choices, std::string meaning,
+                          ParamPhase phase);
+
+  std::string type_name() const;
+  std::string range_text() const;
+};
+
+std::string format_param_value(const ParamValue& value);
+
+// Resolved, typed knob values.
+class ParamSet {
+ public:
+  int64_t integer(const std::string& name) const;
+  double real(const std::string& name) const;
+  bool boolean(const std::string& name) const;
+  const std::string& text(const std::string& name) const;
+  void set(const std::string& name, ParamValue value) { values_[name] = std::move(value); }
+  bool has(const std::string& name) const { return values_.count(name) > 0; }
+  const std::map<std::string, ParamValue>& values() const { return values_; }
+  nlohmann::json to_json() const;
+
+ private:
+  const ParamValue& get(const std::string& name) const;
+  std::map<std::string, ParamValue> values_;
+};
+
+class ParamDict {
+ public:
+  struct Entry {
+    std::string text;
+    SourceLocation where;
+  };
+
+  void set(const std::string& key, const std::string& text, const SourceLocation& where);
+  // "key=value" from the command line.
+  void set_assignment(const std::string& assignment, const std::string& origin);
+  // Every key of a YAML map.
+  void set_from_config(const ConfigNode& map);
+  bool empty() const { return entries_.empty(); }
+  const std::map<std::string, Entry>& entries() const { return entries_; }
+
+  // Checks every entry against the specs (unknown key, type, range) and fills in defaults.
+  // `owner` names the method in messages.
+  ParamSet resolve(const std::vector<ParamSpec>& specs, const std::string& owner) const;
+
+ private:
+  std::map<std::string, Entry> entries_;
+};
+
+// The subset of a ParamSet whose specs have the given phase.
+ParamSet select_phase(const ParamSet& all, const std::vector<ParamSpec>& specs, ParamPhase phase);
+
+}  // namespace causticbench

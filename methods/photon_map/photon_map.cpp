@@ -1,0 +1,110 @@
+#include "methods/photon_map/photon_map.h"
+
+#include <nanoflann.hpp>
+
+#include "core/parallel.h"
+
+namespace causticbench {
+
+// nanoflann's view of the photon positions.
+struct PhotonCloud {
+  const std::vector<Photon>* photons = nullptr;
+  size_t kdtree_get_point_count() const { return photons->size(); }
+  float kdtree_get_pt(size_t index, size_t dimension) const { return (*photons)[index].position[dimension]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const { return false; }
+};
+
+using PhotonTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PhotonCloud>, PhotonCloud, 3>;
+
+struct PhotonMapMethod::Index {
+  PhotonCloud cloud;
+  std::unique_ptr<PhotonTree> tree;
+};
+
+PhotonMapMethod::PhotonMapMethod() = default;
+PhotonMapMethod::~PhotonMapMethod() = default;
+
+const MethodInfo& PhotonMapMethod::static_info() {
+  static const MethodInfo info = [] {
+    MethodInfo m;
+    m.name = "photon_map";
+    m.paper = "H. W. Jensen, \"Global Illumination Using Photon Maps\", EGWR 1996 (caustic photon map, cone filter)";
+    m.summary = "Traces a fixed number of caustic photons per frame into a kd-tree (nanoflann) and estimates "
+                "irradiance from the k nearest photons with a cone filter.";
+    m.params = {
+        ParamSpec::integer("photons", 200000, 1, 1e9, "caustic photons emitted per frame", ParamPhase::build),
+        ParamSpec::integer("seed", 1, 0, 4e9, "seed of the photon paths", ParamPhase::build),
+        ParamSpec::integer("k", 50, 1, 10000, "photons in each density estimate (nearest neighbours)", ParamPhase::render),
+        ParamSpec::real("max_radius", 0.1, 1e-9, 1e9, "largest gather radius, scene units", ParamPhase::render),
+        ParamSpec::real("cone_filter_k", 1.1, 1.0, 100.0, "cone filter constant k >= 1 (Jensen): weight 1 - d / (k r)",
+                        ParamPhase::render),
+    };
+    Capabilities& c = m.capabilities;
+    c.reflection = c.refraction = c.multiple_bounces = true;
+    c.directional_light = c.point_light = c.environment_light = true;
+    c.moving_light = c.moving_objects = c.occlusion = c.non_lambertian_receivers = true;
+    c.notes = {{"moving_light", "photons are retraced every frame"}};
+    return m;
+  }();
+  return info;
+}
+
+void PhotonMapMethod::prepare(const Scene& scene, const ParamSet& build) { build_ = build; }
+
+void PhotonMapMethod::update(const FrameContext& frame) {
+  photons_.clear();
+  stats_ = PhotonStats{};
+  CausticPhotonTracer tracer(frame.tracer, PhotonTracerSettings{static_cast<uint64_t>(build_.integer("seed"))});
+  tracer.trace(0, static_cast<uint64_t>(build_.integer("photons")), photons_, stats_);
+  index_ = std::make_unique<Index>();
+  index_->cloud.photons = &photons_;
+  index_->tree = std::make_unique<PhotonTree>(3, index_->cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  index_->tree->buildIndex();
+}
+
+Image PhotonMapMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
+  Image result(gbuffer.width, gbuffer.height, 3);
+  if (photons_.empty()) return result;
+  const size_t k = std::min<size_t>(static_cast<size_t>(params.integer("k")), photons_.size());
+  const float max_radius = static_cast<float>(params.real("max_radius"));
+  const float cone = static_cast<float>(params.real("cone_filter_k"));
+  const double emitted = static_cast<double>(stats_.emitted);
+  // Normalisation of the cone filter over a disc: integral of (1 - d / (k r)) = (1 - 2 / (3 k)) pi r^2.
+  const double normalisation = 1.0 - 2.0 / (3.0 * cone);
+  parallel_blocks(gbuffer.pixel_count(), 256, [&](size_t begin, size_t end, size_t) {
+    std::vector<uint32_t> indices(k);
+    std::vector<float> distances2(k);
+    for (size_t pixel = begin; pixel < end; ++pixel) {
+      if (!gbuffer.receiver[pixel]) continue;
+      const Vec3 point = gbuffer.position[pixel], normal = gbuffer.normal[pixel];
+      size_t found = index_->tree->knnSearch(&point.x, k, indices.data(), distances2.data());
+      if (found == 0) continue;
+      float radius = std::min(max_radius, std::sqrt(distances2[found - 1]));
+      if (radius <= 0.0f) continue;
+      glm::dvec3 sum(0.0);
+      for (size_t j = 0; j < found; ++j) {
+        float distance = std::sqrt(distances2[j]);
+        if (distance > radius) break;
+        const Photon& photon = photons_[indices[j]];
+        if (glm::dot(photon.normal, normal) < 0.7f) continue;
+        sum += glm::dvec3(photon.power) * static_cast<double>(1.0f - distance / (cone * radius));
+      }
+      double area = kPiDouble * static_cast<double>(radius) * radius * normalisation;
+      result.set_rgb(pixel, Color(sum / (area * emitted)));
+    }
+  });
+  return result;
+}
+
+size_t PhotonMapMethod::memory_bytes() const {
+  size_t tree = index_ && index_->tree ? index_->tree->usedMemory(*index_->tree) : 0;
+  return photons_.size() * sizeof(Photon) + tree;
+}
+
+Counters PhotonMapMethod::counters() const {
+  return {{"photons_emitted", static_cast<double>(stats_.emitted)},
+          {"photons_stored", static_cast<double>(photons_.size())}};
+}
+
+}  // namespace causticbench

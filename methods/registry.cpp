@@ -1,0 +1,42 @@
+#include "methods/registry.h"
+
+#include <fmt/format.h>
+
+#include "methods/photon_map/photon_map.h"
+#include "methods/reference/reference.h"
+
+namespace causticbench {
+
+namespace {
+template <typename Method>
+MethodEntry entry() {
+  return MethodEntry{&Method::static_info, [] { return std::make_unique<Method>(); }};
+}
+}  // namespace
+
+const std::vector<MethodEntry>& method_registry() {
+  // One line per method. Add yours here (see docs/adding-a-method.md).
+  static const std::vector<MethodEntry> registry = {
+      entry<ReferenceMethod>(),
+      entry<PhotonMapMethod>(),
+  };
+  return registry;
+}
+
+std::vector<std::string> method_names() {
+  std::vector<std::string> names;
+  for (const MethodEntry& method : method_registry()) names.push_back(method.info().name);
+  return names;
+}
+
+const MethodEntry& find_method(const std::string& name) {
+  for (const MethodEntry& method : method_registry()) {
+    if (method.info().name == name) return method;
+  }
+  throw InputError(fmt::format("unknown method '{}'{}; known methods: {}", name, did_you_mean(name, method_names()),
+                               join(method_names(), ", ")));
+}
+
+std::unique_ptr<CausticMethod> create_method(const std::string& name) { return find_method(name).create(); }
+
+}  // namespace causticbench

@@ -1,0 +1,34 @@
+#include "tests/test_support.h"
+
+#include <array>
+#include <cstdio>
+
+#include <sys/wait.h>
+
+namespace causticbench::testing {
+
+Scene scene_from_yaml(const std::string& yaml, const std::string& name) {
+  return load_scene_from_string(yaml, name, ".");
+}
+
+FrameResult render(const Scene& scene, const std::string& method, const std::vector<std::string>& knobs) {
+  RenderRequest request;
+  request.scene = &scene;
+  request.method = method;
+  for (const std::string& knob : knobs) request.params.set_assignment(knob, "test");
+  CheckedRequest checked = check_request(request);
+  return run_frame(request, checked);
+}
+
+int run_command(const std::string& command, std::string& output) {
+  output.clear();
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return -1;
+  std::array<char, 4096> buffer{};
+  size_t read;
+  while ((read = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) output.append(buffer.data(), read);
+  int status = pclose(pipe);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace causticbench::testing

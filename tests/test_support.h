@@ -1,0 +1,32 @@
+// Helpers shared by the tests: scenes from strings, running a method on a frame, image regions.
+#pragma once
+
+#include <string>
+
+#include "methods/method_runner.h"
+
+namespace causticbench::testing {
+
+Scene scene_from_yaml(const std::string& yaml, const std::string& name = "test.yaml");
+
+// Runs `method` with the given "key=value" knobs on frame 0.
+FrameResult render(const Scene& scene, const std::string& method, const std::vector<std::string>& knobs);
+
+// Runs a shell command, returns its exit code and fills `output` with stdout+stderr.
+int run_command(const std::string& command, std::string& output);
+
+// Mean of channel 0 over receiver pixels whose position satisfies `inside`.
+template <typename Predicate>
+double region_mean(const FrameResult& result, Predicate inside, size_t* count = nullptr) {
+  double sum = 0.0;
+  size_t n = 0;
+  for (size_t pixel = 0; pixel < result.gbuffer.pixel_count(); ++pixel) {
+    if (!result.gbuffer.receiver[pixel] || !inside(result.gbuffer.position[pixel])) continue;
+    sum += result.caustic.at(pixel, 0);
+    ++n;
+  }
+  if (count) *count = n;
+  return n ? sum / static_cast<double>(n) : 0.0;
+}
+
+}  // namespace causticbench::testing
