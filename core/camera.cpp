@@ -56,13 +56,7 @@ Camera read_camera(const ConfigNode& node) {
   if (glm::length(glm::cross(glm::normalize(forward), glm::normalize(camera.up))) < 1e-6) {
     node.fail("up", "an up vector not parallel to the view direction", "a parallel one");
   }
-  if (node.has("animation")) {
-    // Keyframes were read by the tracks above; reject unknown keys in them.
-    ConfigNode animation = node.child("animation");
-    ConfigNode keyframes = animation.child("keyframes");
-    for (size_t i = 0; i < keyframes.size(); ++i) keyframes.at(i).finish();
-    animation.finish();
-  }
+  finish_animation(node);
   node.finish();
   return camera;
 }

@@ -41,12 +41,17 @@ Color EnvironmentMap::texel(int x, int y) const {
   return Color(pixels_[index], pixels_[index + 1], pixels_[index + 2]);
 }
 
-Color EnvironmentMap::radiance(const Vec3& w) const {
+void EnvironmentMap::texel_of(const Vec3& w, int& x, int& y) const {
   double theta = std::acos(std::clamp(static_cast<double>(w.y), -1.0, 1.0));
   double phi = std::atan2(static_cast<double>(w.z), static_cast<double>(w.x)) - rotation_radians_;
   phi = phi - 2.0 * kPiDouble * std::floor(phi / (2.0 * kPiDouble));
-  int x = std::min(width_ - 1, static_cast<int>(phi / (2.0 * kPiDouble) * width_));
-  int y = std::min(height_ - 1, static_cast<int>(theta / kPiDouble * height_));
+  x = std::min(width_ - 1, static_cast<int>(phi / (2.0 * kPiDouble) * width_));
+  y = std::min(height_ - 1, static_cast<int>(theta / kPiDouble * height_));
+}
+
+Color EnvironmentMap::radiance(const Vec3& w) const {
+  int x, y;
+  texel_of(w, x, y);
   return texel(x, y);
 }
 
@@ -67,11 +72,8 @@ Vec3 EnvironmentMap::sample(float u1, float u2, float u3, Color& radiance_over_p
 }
 
 float EnvironmentMap::pdf(const Vec3& w) const {
-  double theta = std::acos(std::clamp(static_cast<double>(w.y), -1.0, 1.0));
-  double phi = std::atan2(static_cast<double>(w.z), static_cast<double>(w.x)) - rotation_radians_;
-  phi = phi - 2.0 * kPiDouble * std::floor(phi / (2.0 * kPiDouble));
-  int x = std::min(width_ - 1, static_cast<int>(phi / (2.0 * kPiDouble) * width_));
-  int y = std::min(height_ - 1, static_cast<int>(theta / kPiDouble * height_));
+  int x, y;
+  texel_of(w, x, y);
   double cos0 = std::cos(kPiDouble * y / height_), cos1 = std::cos(kPiDouble * (y + 1) / height_);
   double texel_solid_angle = (2.0 * kPiDouble / width_) * (cos0 - cos1);
   return static_cast<float>(distribution_.probability(static_cast<size_t>(y) * width_ + x) / texel_solid_angle);
@@ -195,12 +197,7 @@ Light read_light(const ConfigNode& node, const std::string& scene_folder) {
       light.solid_angle = node.number("solid_angle_sr", 1e-12, 1.0);
     }
   }
-  if (node.has("animation")) {
-    ConfigNode animation = node.child("animation");
-    ConfigNode keyframes = animation.child("keyframes");
-    for (size_t i = 0; i < keyframes.size(); ++i) keyframes.at(i).finish();
-    animation.finish();
-  }
+  finish_animation(node);
   node.finish();
   return light;
 }

@@ -32,6 +32,7 @@ class EnvironmentMap {
 
  private:
   Color texel(int x, int y) const;
+  void texel_of(const Vec3& direction_to_light, int& x, int& y) const;
   std::vector<float> pixels_;
   int width_ = 0, height_ = 0;
   double rotation_radians_ = 0.0;

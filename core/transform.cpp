@@ -93,6 +93,14 @@ Vec3Track read_vec3_track(const ConfigNode& owner, const std::string& key, const
   return track;
 }
 
+void finish_animation(const ConfigNode& owner) {
+  std::optional<ConfigNode> animation = owner.optional_child("animation");
+  if (!animation) return;
+  ConfigNode keyframes = animation->child("keyframes");
+  for (size_t i = 0; i < keyframes.size(); ++i) keyframes.at(i).finish();
+  animation->finish();
+}
+
 AnimatedTransform read_animated_transform(const ConfigNode& object) {
   AnimatedTransform result;
   std::optional<ConfigNode> transform = object.optional_child("transform");

@@ -50,6 +50,10 @@ struct AnimatedTransform {
 // scale}, ...]}` from an object's map.
 AnimatedTransform read_animated_transform(const ConfigNode& object);
 
+// Rejects unknown keys in `animation.keyframes[*]` and `animation` of an owner whose animated
+// tracks were read with read_vec3_track.
+void finish_animation(const ConfigNode& owner);
+
 // Reads a vec3 key that may be animated through `animation.keyframes[*].<key>`.
 Vec3Track read_vec3_track(const ConfigNode& owner, const std::string& key, const glm::dvec3* fallback);
 

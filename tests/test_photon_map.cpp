@@ -9,16 +9,7 @@ using causticbench::testing::render;
 using causticbench::testing::scene_from_yaml;
 
 TEST(PhotonMap, ConvergesToTheReference) {
-  Scene scene = scene_from_yaml(R"(
-camera: {position: [0, 2.0, 2.0], look_at: [0, 0.1, 0], fov_degrees: 35, resolution: [40, 40]}
-lights: [{type: directional, direction: [0.3, -1, 0.2], irradiance: 1}]
-objects:
-  - shape: {type: quad, size: [6, 6]}
-    material: {type: diffuse, albedo: 0.8}
-  - shape: {type: sphere, radius: 0.4}
-    material: {type: glass, ior: 1.5}
-    transform: {translate: [0, 0.6, 0]}
-)");
+  Scene scene = scene_from_yaml(causticbench::testing::kSmallGlassSphere);
   FrameResult reference = render(scene, "reference", {"photons_per_pass=400000", "max_passes=60", "target_noise_floor=0"});
   std::vector<double> errors, energy;
   // A consistent density estimate needs k to grow with the photon count (variance ~ 1/k) while the

@@ -66,9 +66,13 @@ TEST(Reference, FlatMirrorMatchesTheClosedForm) {
     if (!result.gbuffer.receiver[pixel]) continue;
     bool well_inside = p.x > -1.5f + margin && p.x < -0.5f - margin && std::abs(p.z) < 0.5f - margin;
     bool well_outside = p.x < -1.5f - margin || (p.x > -0.5f + margin) || std::abs(p.z) > 0.5f + margin;
-    if (well_inside) EXPECT_NEAR(result.caustic.at(pixel, 0), expected, 0.15 * expected);
+    if (well_inside) {
+      EXPECT_NEAR(result.caustic.at(pixel, 0), expected, 0.15 * expected);
+    }
     // No caustic path reaches these points: zero exactly.
-    if (well_outside) EXPECT_EQ(result.caustic.at(pixel, 0), 0.0f) << p.x << " " << p.z;
+    if (well_outside) {
+      EXPECT_EQ(result.caustic.at(pixel, 0), 0.0f) << p.x << " " << p.z;
+    }
   }
 }
 
@@ -123,18 +127,7 @@ TEST(Reference, CausticFluxEqualsInterceptedFluxTimesReflectance) {
   EXPECT_LT(deposited_flux("{type: glass, ior: 1.5, absorption: 2}", 100000), 0.8 * intercepted);
 }
 
-namespace {
-const char* kSmallGlassSphere = R"(
-camera: {position: [0, 2.0, 2.0], look_at: [0, 0.1, 0], fov_degrees: 35, resolution: [40, 40]}
-lights: [{type: directional, direction: [0.3, -1, 0.2], irradiance: 1}]
-objects:
-  - shape: {type: quad, size: [6, 6]}
-    material: {type: diffuse, albedo: 0.8}
-  - shape: {type: sphere, radius: 0.4}
-    material: {type: glass, ior: 1.5}
-    transform: {translate: [0, 0.6, 0]}
-)";
-}
+using causticbench::testing::kSmallGlassSphere;
 
 TEST(Reference, ErrorFallsWithPassesAndTheNoiseFloorPredictsIt) {
   Scene scene = scene_from_yaml(kSmallGlassSphere);
@@ -152,7 +145,9 @@ TEST(Reference, ErrorFallsWithPassesAndTheNoiseFloorPredictsIt) {
     double measured = errors[i] - truth_floor;
     EXPECT_GT(floors[i], measured / 2.0) << "run " << i << " error " << errors[i] << " floor " << floors[i];
     EXPECT_LT(floors[i], measured * 2.0) << "run " << i << " error " << errors[i] << " floor " << floors[i];
-    if (i > 0) EXPECT_LT(errors[i], errors[i - 1]);
+    if (i > 0) {
+      EXPECT_LT(errors[i], errors[i - 1]);
+    }
   }
   EXPECT_LT(truth_floor, errors.back() / 4.0);
 }

@@ -7,6 +7,17 @@
 
 namespace causticbench::testing {
 
+const char* const kSmallGlassSphere = R"(
+camera: {position: [0, 2.0, 2.0], look_at: [0, 0.1, 0], fov_degrees: 35, resolution: [40, 40]}
+lights: [{type: directional, direction: [0.3, -1, 0.2], irradiance: 1}]
+objects:
+  - shape: {type: quad, size: [6, 6]}
+    material: {type: diffuse, albedo: 0.8}
+  - shape: {type: sphere, radius: 0.4}
+    material: {type: glass, ior: 1.5}
+    transform: {translate: [0, 0.6, 0]}
+)";
+
 Scene scene_from_yaml(const std::string& yaml, const std::string& name) {
   return load_scene_from_string(yaml, name, ".");
 }

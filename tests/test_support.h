@@ -7,6 +7,9 @@
 
 namespace causticbench::testing {
 
+// A glass sphere (radius 0.4) above a diffuse floor under a tilted directional light, 40 x 40 pixels.
+extern const char* const kSmallGlassSphere;
+
 Scene scene_from_yaml(const std::string& yaml, const std::string& name = "test.yaml");
 
 // Runs `method` with the given "key=value" knobs on frame 0.

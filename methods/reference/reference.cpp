@@ -85,7 +85,7 @@ const MethodInfo& ReferenceMethod::static_info() {
                 "its own noise floor, measured from two independent halves.";
     const ParamPhase render = ParamPhase::render;
     m.params = {
-        ParamSpec::integer("photons_per_pass", 400000, 1000, 1e9, "photons emitted per pass, split between the two halves", render),
+        ParamSpec::integer("photons_per_pass", 2000000, 1000, 1e9, "photons emitted per pass, split between the two halves", render),
         ParamSpec::real("target_noise_floor", 1e-3, 0.0, 1.0,
                         "stop when the estimated relMSE of the result (from the two halves) falls to this; 0: never", render),
         ParamSpec::real("max_seconds", 600.0, 0.0, 1e7, "stop after this much wall time (0: no limit)", render),
@@ -150,7 +150,7 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   std::vector<Photon> photons;
   nlohmann::json history = nlohmann::json::array();
   Progress progress("reference", 1.0);
-  double first_floor = 0.0, trace_seconds = 0.0;
+  double trace_seconds = 0.0;
   std::string stop_reason = "max_passes";
   int64_t pass = 0;
   noise_floor_ = 0.0;
@@ -176,10 +176,19 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
     double seconds = elapsed();
     history.push_back({{"pass", pass}, {"photons", 2 * photons_per_half * pass}, {"seconds", seconds},
                        {"noise_floor", noise_floor_}});
-    if (pass == 1) first_floor = noise_floor_;
     double fraction = 0.0;
-    if (target > 0.0 && first_floor > target && noise_floor_ > 0.0) {
-      fraction = std::log(first_floor / noise_floor_) / std::log(first_floor / target);
+    if (target > 0.0 && noise_floor_ > target && pass >= 4) {
+      // The floor falls as a power of the time spent: fit its exponent over the second half of the
+      // history and extrapolate the time at which it reaches the target.
+      const auto& earlier = history[static_cast<size_t>(pass / 2)];
+      double t0 = earlier["seconds"].get<double>(), f0 = earlier["noise_floor"].get<double>();
+      double exponent = f0 > 0.0 && seconds > t0 ? std::log(f0 / noise_floor_) / std::log(seconds / t0) : 0.0;
+      if (exponent > 0.0) {
+        double needed = seconds * std::pow(noise_floor_ / target, 1.0 / exponent);
+        fraction = seconds / needed;
+      }
+    } else if (target > 0.0 && noise_floor_ <= target) {
+      fraction = 1.0;
     }
     if (max_seconds > 0.0) fraction = std::max(fraction, seconds / max_seconds);
     fraction = std::max(fraction, static_cast<double>(pass) / static_cast<double>(max_passes));
