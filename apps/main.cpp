@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
   describe_command->add_option("method", describe_name, "method name")->required();
   describe_command->add_flag("--markdown", markdown, "print the table as Markdown (the method's README table)");
   std::string validate_file;
-  CLI::App* validate_command = app.add_subcommand("validate", "Check a scene file and report every defect with file, line and column.");
+  CLI::App* validate_command = app.add_subcommand("validate", "Check a scene file; the first defect is reported with file, line, column, key, expected and found.");
   validate_command->add_option("file", validate_file, "scene file")->required();
 
   try {

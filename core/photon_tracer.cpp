@@ -130,10 +130,14 @@ void CausticPhotonTracer::trace_one(uint64_t index, std::vector<Photon>& photons
   const Scene& scene = *tracer_.frame().scene;
   float initial = max_component(power);
   int specular_bounces = 0;
+  const Material* medium = nullptr;  // the glass the photon travels in, if any
   for (int depth = 0; depth <= settings_.max_bounces; ++depth) {
     SurfaceHit hit;
     ++stats.rays;
     if (!tracer_.intersect(ray, hit)) return;
+    // The segment just travelled was inside a glass medium (also when it ends on a surface inside
+    // it, such as a pool floor under water): Beer-Lambert absorption over its length.
+    if (medium) power *= glm::exp(-medium->absorption * hit.t);
     const Material& material = scene.objects[hit.object].material;
     bool from_outside = glm::dot(ray.direction, hit.geometric_normal) < 0.0f;
     if (material.receives_caustics()) {
@@ -148,15 +152,13 @@ void CausticPhotonTracer::trace_one(uint64_t index, std::vector<Photon>& photons
     float cos_incident = -glm::dot(ray.direction, normal);
     Vec3 next;
     if (material.kind == MaterialKind::glass) {
-      if (!from_outside) {
-        // The segment just travelled was inside the glass: Beer-Lambert absorption over its length.
-        power *= glm::exp(-material.absorption * hit.t);
-      }
       float eta = from_outside ? material.ior : 1.0f / material.ior;
       float reflectance = fresnel_dielectric(cos_incident, eta);
       // Choosing reflection with probability F and refraction with 1 - F leaves the power unchanged.
       if (random.uniform() < reflectance || !refract(ray.direction, normal, eta, next)) {
         next = reflect(ray.direction, normal);
+      } else {
+        medium = from_outside ? &material : nullptr;
       }
     } else {
       power *= material.mirror_reflectance(cos_incident);

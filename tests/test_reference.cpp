@@ -176,3 +176,26 @@ TEST(Reference, DeterministicForASeedAndAnyThreadCount) {
   FrameResult other_seed = render(scene, "reference", knobs);
   EXPECT_NE(first.caustic.values(), other_seed.caustic.values());
 }
+
+TEST(Reference, WaterAbsorbsAlongThePathToThePoolFloor) {
+  // Flat water (n = 1.33, absorption 0.5 per metre) over a floor 0.5 m down, light straight down with
+  // 1 W/m^2: the floor receives (1 - F(0)) exp(-0.5 * 0.5), F(0) = (0.33 / 2.33)^2. The camera is under
+  // the surface looking down.
+  Scene scene = scene_from_yaml(R"(
+camera: {type: orthographic, position: [0, -0.2, 0], look_at: [0, -1, 0], up: [0, 0, 1], view_height: 1, resolution: [24, 24]}
+lights: [{type: directional, direction: [0, -1, 0], irradiance: 1}]
+objects:
+  - shape: {type: quad, size: [4, 4]}
+    material: {type: diffuse}
+    transform: {translate: [0, -0.5, 0]}
+  - shape: {type: water, size: [3, 3], resolution: [4, 4]}
+    material: {type: glass, ior: 1.33, absorption: 0.5}
+)");
+  FrameResult result = render(scene, "reference", {"photons_per_pass=100000", "max_passes=4", "target_noise_floor=0"});
+  const double fresnel = std::pow(0.33 / 2.33, 2.0);
+  const double expected = (1.0 - fresnel) * std::exp(-0.25);
+  // Every photon that reaches the floor carries the same power: only Fresnel's random choice varies,
+  // so the mean over the view is within 1% (binomial noise of 2% reflections over ~10^5 photons).
+  double mean = causticbench::testing::region_mean(result, [](const Vec3&) { return true; });
+  EXPECT_NEAR(mean, expected, 0.01 * expected);
+}

@@ -85,7 +85,7 @@ const MethodInfo& ReferenceMethod::static_info() {
                 "its own noise floor, measured from two independent halves.";
     const ParamPhase render = ParamPhase::render;
     m.params = {
-        ParamSpec::integer("photons_per_pass", 2000000, 1000, 1e9, "photons emitted per pass, split between the two halves", render),
+        ParamSpec::integer("photons_per_pass", 4000000, 1000, 1e9, "photons emitted per pass, split between the two halves", render),
         ParamSpec::real("target_noise_floor", 1e-3, 0.0, 1.0,
                         "stop when the estimated relMSE of the result (from the two halves) falls to this; 0: never", render),
         ParamSpec::real("max_seconds", 600.0, 0.0, 1e7, "stop after this much wall time (0: no limit)", render),
