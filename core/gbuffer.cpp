@@ -37,6 +37,7 @@ GBuffer render_gbuffer(const Tracer& tracer) {
   gbuffer.object.assign(count, -1);
   gbuffer.receiver.assign(count, 0);
   gbuffer.footprint.assign(count, 0.0f);
+  const Vec3 view_axis = frame.camera.primary_ray(gbuffer.width / 2, gbuffer.height / 2).direction;
   parallel_blocks(count, 1024, [&](size_t begin, size_t end, size_t) {
     for (size_t i = begin; i < end; ++i) {
       int x = static_cast<int>(i % gbuffer.width), y = static_cast<int>(i / gbuffer.width);
@@ -53,8 +54,7 @@ GBuffer render_gbuffer(const Tracer& tracer) {
         gbuffer.receiver[i] = 1;
         gbuffer.albedo[i] = material.albedo;
       }
-      float along_view = hit.t * std::abs(glm::dot(ray.direction, glm::normalize(frame.camera.primary_ray(
-                                                                       gbuffer.width / 2, gbuffer.height / 2).direction)));
+      float along_view = hit.t * std::abs(glm::dot(ray.direction, view_axis));
       float cosine = std::max(0.05f, std::abs(glm::dot(normal, ray.direction)));
       gbuffer.footprint[i] = frame.camera.pixel_footprint(along_view) / std::sqrt(cosine);
     }
