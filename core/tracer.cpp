@@ -125,7 +125,6 @@ Tracer::Tracer(const SceneFrame& frame) : frame_(&frame) {
     rtcCommitGeometry(geometry);
     unsigned id = rtcAttachGeometry(scene_, geometry);
     rtcReleaseGeometry(geometry);
-    if (object.shape.is_analytic()) analytic_.back()->geometry = id;
     if (geometry_to_object_.size() <= id) geometry_to_object_.resize(id + 1, -1);
     geometry_to_object_[id] = static_cast<int>(index);
   }

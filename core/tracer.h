@@ -39,7 +39,6 @@ class Tracer {
   struct AnalyticInstance {
     const ShapeDesc* shape = nullptr;
     glm::dmat4 inverse{1.0};
-    unsigned geometry = 0;
   };
 
  private:

@@ -65,71 +65,71 @@ glm::dvec3 read_component(const ConfigNode& node, const std::string& key, const 
 
 }  // namespace
 
-Vec3Track read_vec3_track(const ConfigNode& owner, const std::string& key, const glm::dvec3* fallback) {
-  Vec3Track track;
-  if (fallback == nullptr || owner.has(key)) {
-    track.keys.push_back({0.0, key == "scale" ? read_scale(owner) : owner.vec3(key)});
-  } else {
-    track.keys.push_back({0.0, *fallback});
-  }
-  std::optional<ConfigNode> animation = owner.optional_child("animation");
-  if (!animation) return track;
-  ConfigNode keyframes = animation->child("keyframes");
+namespace {
+
+// The keyframes of `key` under owner.animation.keyframes, sorted by frame; empty when none animate it.
+std::vector<std::pair<double, glm::dvec3>> read_keyframes(const ConfigNode& owner, const std::string& key) {
   std::vector<std::pair<double, glm::dvec3>> animated;
+  std::optional<ConfigNode> animation = owner.optional_child("animation");
+  if (!animation) return animated;
+  ConfigNode keyframes = animation->child("keyframes");
+  if (keyframes.size() < 2) keyframes.fail_here("at least two keyframes", keyframes.describe_value());
   for (size_t i = 0; i < keyframes.size(); ++i) {
     ConfigNode keyframe = keyframes.at(i);
     if (!keyframe.has(key)) continue;
     double frame = keyframe.number("frame", 0.0, 1e9);
     animated.push_back({frame, read_component(keyframe, key, glm::dvec3(0.0))});
   }
-  if (animated.empty()) return track;
   std::stable_sort(animated.begin(), animated.end(), [](auto& a, auto& b) { return a.first < b.first; });
   for (size_t i = 1; i < animated.size(); ++i) {
     if (animated[i].first == animated[i - 1].first) {
-      keyframes.fail_here("keyframes with distinct frame numbers", "frame " + std::to_string(animated[i].first) + " twice");
+      keyframes.fail_here("keyframes with distinct frame numbers for '" + key + "'",
+                          "frame " + std::to_string(animated[i].first) + " twice");
     }
   }
-  track.keys = animated;
-  return track;
+  return animated;
+}
+
+// A track whose still value is `static_owner[key]` (or the fallback) and whose keyframes, if any,
+// come from animated_owner.animation.keyframes[*][key].
+Vec3Track read_track(const std::optional<ConfigNode>& static_owner, const ConfigNode& animated_owner,
+                     const std::string& key, const glm::dvec3* fallback) {
+  std::vector<std::pair<double, glm::dvec3>> animated = read_keyframes(animated_owner, key);
+  if (!animated.empty()) return Vec3Track{animated};
+  if (fallback == nullptr) return Vec3Track::constant(key == "scale" ? read_scale(*static_owner) : static_owner->vec3(key));
+  return Vec3Track::constant(static_owner ? read_component(*static_owner, key, *fallback) : *fallback);
+}
+
+}  // namespace
+
+Vec3Track read_vec3_track(const ConfigNode& owner, const std::string& key, const glm::dvec3* fallback) {
+  return read_track(owner, owner, key, fallback);
 }
 
 void finish_animation(const ConfigNode& owner) {
   std::optional<ConfigNode> animation = owner.optional_child("animation");
   if (!animation) return;
   ConfigNode keyframes = animation->child("keyframes");
-  for (size_t i = 0; i < keyframes.size(); ++i) keyframes.at(i).finish();
+  for (size_t i = 0; i < keyframes.size(); ++i) {
+    ConfigNode keyframe = keyframes.at(i);
+    // Asking for 'frame' makes it a known key, so that a keyframe holding only values this owner
+    // cannot animate fails on those values, with the animatable keys listed.
+    keyframe.has("frame");
+    if (keyframe.keys().size() < 2) keyframe.fail_here("a frame and at least one animated value", keyframe.describe_value());
+    keyframe.finish();
+  }
   animation->finish();
 }
 
 AnimatedTransform read_animated_transform(const ConfigNode& object) {
   AnimatedTransform result;
   std::optional<ConfigNode> transform = object.optional_child("transform");
-  glm::dvec3 zero(0.0), one(1.0);
-  if (transform) {
-    result.translate = Vec3Track::constant(read_component(*transform, "translate", zero));
-    result.rotate = Vec3Track::constant(read_component(*transform, "rotate", zero));
-    result.scale = Vec3Track::constant(read_component(*transform, "scale", one));
-    transform->finish();
-  }
-  std::optional<ConfigNode> animation = object.optional_child("animation");
-  if (!animation) return result;
-  ConfigNode keyframes = animation->child("keyframes");
-  if (keyframes.size() < 2) keyframes.fail_here("at least two keyframes", keyframes.describe_value());
-  auto animate = [&](Vec3Track& track, const std::string& key) {
-    std::vector<std::pair<double, glm::dvec3>> keys;
-    for (size_t i = 0; i < keyframes.size(); ++i) {
-      ConfigNode keyframe = keyframes.at(i);
-      if (keyframe.has(key)) keys.push_back({keyframe.number("frame", 0.0, 1e9), read_component(keyframe, key, zero)});
-    }
-    if (keys.empty()) return;
-    std::stable_sort(keys.begin(), keys.end(), [](auto& a, auto& b) { return a.first < b.first; });
-    track.keys = keys;
-  };
-  animate(result.translate, "translate");
-  animate(result.rotate, "rotate");
-  animate(result.scale, "scale");
-  for (size_t i = 0; i < keyframes.size(); ++i) keyframes.at(i).finish();
-  animation->finish();
+  const glm::dvec3 zero(0.0), one(1.0);
+  result.translate = read_track(transform, object, "translate", &zero);
+  result.rotate = read_track(transform, object, "rotate", &zero);
+  result.scale = read_track(transform, object, "scale", &one);
+  if (transform) transform->finish();
+  finish_animation(object);
   return result;
 }
 

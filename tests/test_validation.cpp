@@ -186,3 +186,34 @@ TEST(Validation, ShippedScenesValidate) {
   }
   EXPECT_GE(count, 8);
 }
+
+TEST(Validation, ObjectKeyframesNeedDistinctFrames) {
+  std::string message = error_of(replace(kValidScene, "    transform: {translate: [0, 0.5, 0]}",
+                                         "    animation: {keyframes: [{frame: 0, translate: [0, 0.5, 0]}, "
+                                         "{frame: 0, translate: [1, 0.5, 0]}]}"));
+  EXPECT_NE(message.find("distinct frame numbers for 'translate'"), std::string::npos) << message;
+}
+
+TEST(Validation, KeyframeWithNothingTheOwnerCanAnimate) {
+  // An environment image cannot be animated: the value is named, with what the keyframe may hold.
+  std::string scene = replace(kValidScene, "{type: directional, direction: [0, -1, 0], irradiance: 1}",
+                              "{type: environment, image: forest, animation: {keyframes: [{frame: 0, "
+                              "rotation_degrees: 0}, {frame: 9, rotation_degrees: 90}]}}");
+  std::string message = error_of(scene);
+  EXPECT_NE(message.find("unknown key 'rotation_degrees'"), std::string::npos) << message;
+  EXPECT_NE(message.find("known keys: frame"), std::string::npos) << message;
+  message = error_of(replace(kValidScene, "    transform: {translate: [0, 0.5, 0]}",
+                             "    animation: {keyframes: [{frame: 0}, {frame: 5}]}"));
+  EXPECT_NE(message.find("a frame and at least one animated value"), std::string::npos) << message;
+}
+
+TEST(Validation, AnimatedObjectInterpolatesItsKeyframes) {
+  Scene scene = scene_from_yaml(replace(kValidScene, "    transform: {translate: [0, 0.5, 0]}",
+                                        "    transform: {rotate: [0, 30, 0]}\n"
+                                        "    animation: {keyframes: [{frame: 0, translate: [0, 0.5, 0]}, "
+                                        "{frame: 10, translate: [2, 0.5, 0]}]}"));
+  const AnimatedTransform& transform = scene.objects[1].transform;
+  EXPECT_DOUBLE_EQ(transform.translate.at(5).x, 1.0);
+  EXPECT_DOUBLE_EQ(transform.translate.at(20).x, 2.0);
+  EXPECT_DOUBLE_EQ(transform.rotate.at(5).y, 30.0);  // the still part of the transform stays
+}

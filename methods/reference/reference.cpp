@@ -155,12 +155,15 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   int64_t pass = 0;
   noise_floor_ = 0.0;
   bool has_points = !points.pixel.empty();
+  const int max_bounces = static_cast<int>(params.integer("max_bounces"));
+  const CausticPhotonTracer photon_tracers[2] = {
+      CausticPhotonTracer(*tracer_, PhotonTracerSettings{halves[0].seed, max_bounces}),
+      CausticPhotonTracer(*tracer_, PhotonTracerSettings{halves[1].seed, max_bounces})};
   while (true) {
     for (int h = 0; h < 2; ++h) {
-      CausticPhotonTracer tracer(*tracer_, PhotonTracerSettings{halves[h].seed, static_cast<int>(params.integer("max_bounces"))});
       photons.clear();
       auto trace_start = std::chrono::steady_clock::now();
-      tracer.trace(static_cast<uint64_t>(pass) * photons_per_half, photons_per_half, photons, stats);
+      photon_tracers[h].trace(static_cast<uint64_t>(pass) * photons_per_half, photons_per_half, photons, stats);
       trace_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - trace_start).count();
       halves[h].emitted += photons_per_half;
       if (has_points) gather(points, photons, alpha, halves[h]);
