@@ -95,9 +95,12 @@ std::vector<std::pair<double, glm::dvec3>> read_keyframes(const ConfigNode& owne
 Vec3Track read_track(const std::optional<ConfigNode>& static_owner, const ConfigNode& animated_owner,
                      const std::string& key, const glm::dvec3* fallback) {
   std::vector<std::pair<double, glm::dvec3>> animated = read_keyframes(animated_owner, key);
-  if (!animated.empty()) return Vec3Track{animated};
-  if (fallback == nullptr) return Vec3Track::constant(key == "scale" ? read_scale(*static_owner) : static_owner->vec3(key));
-  return Vec3Track::constant(static_owner ? read_component(*static_owner, key, *fallback) : *fallback);
+  // The still value is validated even when keyframes replace it, so that a typo there is reported.
+  glm::dvec3 still = fallback ? *fallback : glm::dvec3(0.0);
+  if (static_owner && (static_owner->has(key) || (fallback == nullptr && animated.empty()))) {
+    still = key == "scale" ? read_scale(*static_owner) : static_owner->vec3(key);
+  }
+  return animated.empty() ? Vec3Track::constant(still) : Vec3Track{animated};
 }
 
 }  // namespace

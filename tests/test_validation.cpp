@@ -217,3 +217,13 @@ TEST(Validation, AnimatedObjectInterpolatesItsKeyframes) {
   EXPECT_DOUBLE_EQ(transform.translate.at(20).x, 2.0);
   EXPECT_DOUBLE_EQ(transform.rotate.at(5).y, 30.0);  // the still part of the transform stays
 }
+
+TEST(Validation, AnimatedLightKeepsAndChecksItsStillValue) {
+  std::string animated = "{type: directional, direction: [0, -1, 0], irradiance: 1, animation: {keyframes: "
+                         "[{frame: 0, direction: [0, -1, 0]}, {frame: 4, direction: [1, -1, 0]}]}}";
+  Scene scene = scene_from_yaml(replace(kValidScene, "{type: directional, direction: [0, -1, 0], irradiance: 1}", animated));
+  EXPECT_DOUBLE_EQ(scene.lights[0].direction.at(2).x, 0.5);
+  std::string message = error_of(replace(kValidScene, "{type: directional, direction: [0, -1, 0], irradiance: 1}",
+                                         replace(animated, "direction: [0, -1, 0], irradiance", "direction: [0, -1], irradiance")));
+  EXPECT_NE(message.find("a list of 3 numbers"), std::string::npos) << message;
+}
