@@ -18,6 +18,20 @@ struct RenderOptions {
 };
 
 int run_render(const RenderOptions& options);
+
+struct ExperimentOptions {
+  std::string experiment;
+  std::string results = "results";
+  bool dry_run = false;
+  bool force = false;
+  std::string filter;
+  std::string shard;  // "i/n" or empty
+  int threads = 0;
+  bool report = true;  // write the report after the runs
+};
+
+int run_experiment_command(const ExperimentOptions& options);
+int run_report(const std::string& folder);
 int run_list();
 int run_describe(const std::string& method, bool markdown);
 int run_validate(const std::string& file);

@@ -2,6 +2,7 @@
 
 #include "apps/commands.h"
 #include "core/scene.h"
+#include "experiments/experiment.h"
 #include "methods/registry.h"
 
 namespace causticbench {
@@ -63,6 +64,13 @@ int run_describe(const std::string& name, bool markdown) {
 }
 
 int run_validate(const std::string& file) {
+  // An experiment names its methods; a scene does not.
+  if (ConfigNode::load_file(file).has("methods")) {
+    Experiment experiment = load_experiment(file);
+    fmt::print("{}: valid experiment '{}': scene {}, {} run(s), {} frame(s), {} repetition(s)\n", file, experiment.name,
+               experiment.scene_path, experiment.runs.size(), experiment.frames.size(), experiment.repetitions);
+    return 0;
+  }
   Scene scene = load_scene(file);
   size_t specular = 0;
   for (const SceneObject& object : scene.objects) specular += object.material.is_specular() ? 1 : 0;

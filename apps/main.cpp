@@ -30,6 +30,26 @@ int main(int argc, char** argv) {
   render_command->add_option("--direct-samples", render.direct_samples, "light samples per pixel for direct.exr")
       ->capture_default_str()->check(CLI::Range(1, 4096));
 
+  ExperimentOptions experiment;
+  CLI::App* run_command = app.add_subcommand(
+      "run", "Run an experiment (docs/experiment-format.md): expand its sweeps into runs, compute or reuse the\n"
+             "cached reference, time and measure every run not yet stored under RESULTS/<experiment>/runs/<key>/,\n"
+             "then write the report. A killed run resumes where it stopped.");
+  run_command->add_option("experiment", experiment.experiment, "experiment file (YAML)")->required();
+  run_command->add_option("--results", experiment.results, "results folder")->capture_default_str();
+  run_command->add_flag("--dry-run", experiment.dry_run, "list the runs (stored or pending) and exit");
+  run_command->add_flag("--force", experiment.force, "rerun runs that are already stored");
+  run_command->add_option("--filter", experiment.filter,
+                          "only runs matching every comma-separated term: knob=value, method=NAME, or a word of the label");
+  run_command->add_option("--shard", experiment.shard, "run only slice i of n (i/n, 0-based): the unit a scheduler hands out");
+  run_command->add_option("-t,--threads", experiment.threads, "worker threads (0: all cores)")->capture_default_str();
+  run_command->add_flag("!--no-report", experiment.report, "do not write the report after the runs");
+
+  std::string report_folder;
+  CLI::App* report_command = app.add_subcommand(
+      "report", "Write report.html, report.md, results.csv and results.json for RESULTS/<experiment>/ from the stored runs.");
+  report_command->add_option("folder", report_folder, "an experiment's results folder")->required();
+
   CLI::App* list_command = app.add_subcommand("list", "List the methods and their capability matrix.");
   std::string describe_name;
   bool markdown = false;
@@ -37,8 +57,8 @@ int main(int argc, char** argv) {
   describe_command->add_option("method", describe_name, "method name")->required();
   describe_command->add_flag("--markdown", markdown, "print the table as Markdown (the method's README table)");
   std::string validate_file;
-  CLI::App* validate_command = app.add_subcommand("validate", "Check a scene file; the first defect is reported with file, line, column, key, expected and found.");
-  validate_command->add_option("file", validate_file, "scene file")->required();
+  CLI::App* validate_command = app.add_subcommand("validate", "Check a scene or experiment file; the first defect is reported with file, line, column, key, expected\nand found.");
+  validate_command->add_option("file", validate_file, "scene or experiment file")->required();
 
   try {
     app.parse(argc, argv);
@@ -49,6 +69,8 @@ int main(int argc, char** argv) {
   Progress::set_quiet(quiet);
   try {
     if (*render_command) return run_render(render);
+    if (*run_command) return run_experiment_command(experiment);
+    if (*report_command) return run_report(report_folder);
     if (*list_command) return run_list();
     if (*describe_command) return run_describe(describe_name, markdown);
     if (*validate_command) return run_validate(validate_file);

@@ -5,6 +5,8 @@
 
 #include <sys/wait.h>
 
+#include <gtest/gtest.h>
+
 namespace causticbench::testing {
 
 const char* const kSmallGlassSphere = R"(
@@ -29,6 +31,22 @@ FrameResult render(const Scene& scene, const std::string& method, const std::vec
   for (const std::string& knob : knobs) request.params.set_assignment(knob, "test");
   CheckedRequest checked = check_request(request);
   return run_frame(request, checked);
+}
+
+std::string replace_once(std::string text, const std::string& from, const std::string& to) {
+  size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "'" << from << "' not found";
+  if (at == std::string::npos) return text;
+  return text.replace(at, from.size(), to);
+}
+
+std::string input_error_message(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "no error";
 }
 
 int run_command(const std::string& command, std::string& output) {

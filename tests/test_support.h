@@ -1,6 +1,7 @@
 // Helpers shared by the tests: scenes from strings, running a method on a frame, image regions.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "methods/method_runner.h"
@@ -14,6 +15,12 @@ Scene scene_from_yaml(const std::string& yaml, const std::string& name = "test.y
 
 // Runs `method` with the given "key=value" knobs on frame 0.
 FrameResult render(const Scene& scene, const std::string& method, const std::vector<std::string>& knobs);
+
+// `text` with the first occurrence of `from` replaced (a test failure when there is none).
+std::string replace_once(std::string text, const std::string& from, const std::string& to);
+
+// The message of the InputError that `action` throws, or "no error".
+std::string input_error_message(const std::function<void()>& action);
 
 // Runs a shell command, returns its exit code and fills `output` with stdout+stderr.
 int run_command(const std::string& command, std::string& output);

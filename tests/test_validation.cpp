@@ -26,19 +26,10 @@ objects:
 )";
 
 std::string error_of(const std::string& yaml) {
-  try {
-    scene_from_yaml(yaml, "bad.yaml");
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "no error";
+  return causticbench::testing::input_error_message([&] { scene_from_yaml(yaml, "bad.yaml"); });
 }
 
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return text.replace(at, from.size(), to);
-}
+const auto replace = causticbench::testing::replace_once;
 
 }  // namespace
 

@@ -1,0 +1,389 @@
+#include "experiments/experiment.h"
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <xxhash.h>
+
+#include "metrics/metrics.h"
+
+namespace causticbench {
+
+namespace fs = std::filesystem;
+
+std::string hash_text(const std::string& text) {
+  return fmt::format("{:016x}", static_cast<unsigned long long>(XXH64(text.data(), text.size(), 0)));
+}
+
+// nlohmann::json keeps object keys sorted, so the dump is canonical whatever the order in the file.
+std::string hash_json(const nlohmann::json& value) { return hash_text(value.dump()); }
+
+std::vector<KnobAssignment> expand_sweep(const KnobAssignment& fixed,
+                                         const std::vector<std::pair<std::string, std::vector<ParamDict::Entry>>>& sweep,
+                                         const std::vector<std::pair<std::string, std::vector<ParamDict::Entry>>>& zip) {
+  std::vector<KnobAssignment> result;
+  size_t zip_length = zip.empty() ? 1 : zip.front().second.size();
+  for (size_t i = 0; i < zip_length; ++i) {
+    KnobAssignment base = fixed;
+    for (const auto& [name, values] : zip) base[name] = values[i];
+    result.push_back(base);
+  }
+  for (const auto& [name, values] : sweep) {
+    std::vector<KnobAssignment> product;
+    for (const KnobAssignment& partial : result) {
+      for (const ParamDict::Entry& value : values) {
+        KnobAssignment next = partial;
+        next[name] = value;
+        product.push_back(next);
+      }
+    }
+    result = std::move(product);
+  }
+  return result;
+}
+
+bool run_matches_filter(const RunSpec& run, const std::string& filter) {
+  std::stringstream terms(filter);
+  for (std::string term; std::getline(terms, term, ',');) {
+    if (term.empty()) continue;
+    size_t equals = term.find('=');
+    if (equals == std::string::npos) {
+      if (run.label.find(term) == std::string::npos) return false;
+      continue;
+    }
+    std::string name = term.substr(0, equals), value = term.substr(equals + 1);
+    if (name == "method") {
+      if (run.method != value) return false;
+      continue;
+    }
+    if (!run.params.has(name)) return false;
+    std::string actual = format_param_value(run.params.values().at(name));
+    double a = 0.0, b = 0.0;
+    bool numeric = (std::stringstream(actual) >> a) && (std::stringstream(value) >> b);
+    if (numeric ? a != b : actual != value) return false;
+  }
+  return true;
+}
+
+namespace {
+
+std::string read_text(const std::string& path) {
+  std::ifstream stream(path, std::ios::binary);
+  std::stringstream buffer;
+  buffer << stream.rdbuf();
+  return buffer.str();
+}
+
+using SweepLists = std::vector<std::pair<std::string, std::vector<ParamDict::Entry>>>;
+
+SweepLists read_lists(const ConfigNode& node) {
+  SweepLists lists;
+  for (const std::string& key : node.keys()) {
+    ConfigNode list = node.child(key);
+    if (!list.is_sequence() || list.size() == 0) list.fail_here("a non-empty list of values", list.describe_value());
+    std::vector<ParamDict::Entry> values;
+    for (size_t i = 0; i < list.size(); ++i) {
+      ConfigNode item = list.at(i);
+      values.push_back(ParamDict::Entry{item.as_string(), item.location()});
+    }
+    lists.push_back({key, values});
+  }
+  return lists;
+}
+
+void read_fixed(const ConfigNode& node, KnobAssignment& fixed, const MethodInfo& info, const ParamPhase* phase) {
+  for (const std::string& key : node.keys()) {
+    ConfigNode value = node.child(key);
+    if (phase) {
+      for (const ParamSpec& spec : info.params) {
+        if (spec.name == key && spec.phase != *phase) {
+          value.fail_here(fmt::format("a {} knob of '{}' here ('{}' is a {} knob)",
+                                      *phase == ParamPhase::build ? "build" : "render", info.name, key,
+                                      spec.phase == ParamPhase::build ? "build" : "render"),
+                          value.describe_value());
+        }
+      }
+    }
+    if (fixed.count(key)) value.fail_here("each knob given once per method entry", "'" + key + "' again");
+    fixed[key] = ParamDict::Entry{value.as_string(), value.location()};
+  }
+}
+
+std::string format_knob_value(const ParamValue& value) { return format_param_value(value); }
+
+nlohmann::json read_overrides(const ConfigNode& node, Scene& scene) {
+  nlohmann::json applied = nlohmann::json::object();
+  if (node.has("resolution")) {
+    std::vector<double> resolution = node.numbers("resolution", 2, 1, 16384);
+    set_resolution(scene, static_cast<int>(resolution[0]), static_cast<int>(resolution[1]));
+    applied["resolution"] = {scene.camera.width, scene.camera.height};
+  }
+  if (std::optional<ConfigNode> camera = node.optional_child("camera")) {
+    if (camera->has("position")) {
+      glm::dvec3 p = camera->vec3("position");
+      scene.camera.position = Vec3Track::constant(p);
+      applied["camera"]["position"] = {p.x, p.y, p.z};
+    }
+    if (camera->has("look_at")) {
+      glm::dvec3 p = camera->vec3("look_at");
+      scene.camera.look_at = Vec3Track::constant(p);
+      applied["camera"]["look_at"] = {p.x, p.y, p.z};
+    }
+    if (camera->has("fov_degrees")) {
+      scene.camera.fov_degrees = camera->number("fov_degrees", 0.01, 179.0);
+      applied["camera"]["fov_degrees"] = scene.camera.fov_degrees;
+    }
+    camera->finish();
+  }
+  if (std::optional<ConfigNode> light_node = node.optional_child("light")) {
+    int index = light_node->integer_or("index", 0, 0, static_cast<int>(scene.lights.size()) - 1);
+    Light& light = scene.lights[index];
+    nlohmann::json& out = applied["light"];
+    out["index"] = index;
+    if (light_node->has("direction")) {
+      glm::dvec3 d = light_node->vec3("direction");
+      if (glm::length(d) < 1e-12) light_node->fail("direction", "a non-zero direction", "[0, 0, 0]");
+      light.direction = Vec3Track::constant(d);
+      out["direction"] = {d.x, d.y, d.z};
+    }
+    if (light_node->has("position")) {
+      glm::dvec3 p = light_node->vec3("position");
+      light.position = Vec3Track::constant(p);
+      out["position"] = {p.x, p.y, p.z};
+    }
+    if (light_node->has("irradiance")) {
+      glm::dvec3 e = light_node->rgb("irradiance", 0.0, 1e9);
+      light.irradiance = Color(e);
+      out["irradiance"] = {e.x, e.y, e.z};
+    }
+    if (light_node->has("intensity")) {
+      glm::dvec3 i = light_node->rgb("intensity", 0.0, 1e12);
+      light.intensity = Color(i);
+      out["intensity"] = {i.x, i.y, i.z};
+    }
+    if (light_node->has("solid_angle_sr")) {
+      light.solid_angle = light_node->number("solid_angle_sr", 0.0, 2.0 * kPiDouble);
+      out["solid_angle_sr"] = light.solid_angle;
+    }
+    light_node->finish();
+  }
+  node.finish();
+  return applied;
+}
+
+std::vector<int> read_frames(const ConfigNode& root, const Scene& scene) {
+  std::vector<int> frames;
+  if (!root.has("frames")) return {0};
+  ConfigNode node = root.child("frames");
+  if (node.is_scalar()) {
+    if (node.as_string() != "all") node.fail_here("'all', a list of frame indices, or {first, count}", node.describe_value());
+    for (int f = 0; f < scene.frames; ++f) frames.push_back(f);
+  } else if (node.is_sequence()) {
+    for (size_t i = 0; i < node.size(); ++i) {
+      ConfigNode item = node.at(i);
+      double value = item.as_number();
+      if (value < 0 || value >= scene.frames || value != static_cast<int>(value)) {
+        item.fail_here(fmt::format("a frame index in 0 .. {} (the scene has {} frames)", scene.frames - 1, scene.frames),
+                       item.describe_value());
+      }
+      frames.push_back(static_cast<int>(value));
+    }
+  } else {
+    int first = node.integer("first", 0, scene.frames - 1);
+    int count = node.integer("count", 1, scene.frames - first);
+    node.finish();
+    for (int f = first; f < first + count; ++f) frames.push_back(f);
+  }
+  if (frames.empty()) node.fail_here("at least one frame", "none");
+  return frames;
+}
+
+nlohmann::json read_paper(const ConfigNode& node) {
+  nlohmann::json paper = nlohmann::json::object();
+  paper["title"] = node.string("title");
+  paper["columns"] = nlohmann::json::array();
+  ConfigNode columns = node.child("columns");
+  for (size_t i = 0; i < columns.size(); ++i) paper["columns"].push_back(columns.at(i).as_string());
+  paper["rows"] = nlohmann::json::array();
+  ConfigNode rows = node.child("rows");
+  for (size_t i = 0; i < rows.size(); ++i) {
+    ConfigNode row = rows.at(i);
+    nlohmann::json out;
+    std::string method = row.string("method");
+    const MethodInfo* info = nullptr;
+    try {
+      info = &find_method(method).info();  // a paper row for an unknown method is a typo
+    } catch (const InputError& error) {
+      throw InputError(fmt::format("{}: {}", row.location_of("method").describe(), error.what()));
+    }
+    out["method"] = method;
+    out["match"] = nlohmann::json::object();
+    if (std::optional<ConfigNode> match = row.optional_child("match")) {
+      // Resolved like knobs, so that a typo is caught and values compare by type (100 == 1e2).
+      ParamDict dict;
+      dict.set_from_config(*match);
+      nlohmann::json resolved = dict.resolve(info->params, method).to_json();
+      for (const std::string& key : match->keys()) out["match"][key] = resolved[key];
+    }
+    out["values"] = nlohmann::json::object();
+    ConfigNode values = row.child("values");
+    for (const std::string& key : values.keys()) out["values"][key] = values.child(key).as_number();
+    out["note"] = row.string_or("note", "");
+    row.finish();
+    paper["rows"].push_back(out);
+  }
+  node.finish();
+  return paper;
+}
+
+}  // namespace
+
+nlohmann::json Experiment::to_json() const {
+  nlohmann::json runs_json = nlohmann::json::array();
+  for (const RunSpec& run : runs) runs_json.push_back(run.key);
+  return {{"name", name},
+          {"source", source},
+          {"description", description},
+          {"scene", scene_path},
+          {"scene_hash", scene_hash},
+          {"overrides", overrides},
+          {"resolution", {scene.camera.width, scene.camera.height}},
+          {"frames", frames},
+          {"repetitions", repetitions},
+          {"metrics", metrics},
+          {"primary_metric", primary_metric},
+          {"reference", reference_params.to_json()},
+          {"reference_key", reference_key},
+          {"runs", runs_json},
+          {"paper", paper}};
+}
+
+Experiment load_experiment(const std::string& path) {
+  ConfigNode root = ConfigNode::load_file(path);
+  if (!root.is_map()) root.fail_here("an experiment map with scene and methods", root.describe_value());
+  Experiment experiment;
+  experiment.source = path;
+  experiment.name = root.string_or("name", fs::path(path).stem().string());
+  if (!std::regex_match(experiment.name, std::regex("[A-Za-z0-9_.-]+"))) {
+    root.fail("name", "a name of letters, digits, '_', '.' and '-' (it names the results folder)", "'" + experiment.name + "'");
+  }
+  experiment.description = root.string_or("description", "");
+  std::string scene_name = root.string("scene");
+  fs::path scene_path = fs::path(path).parent_path() / scene_name;
+  if (fs::path(scene_name).is_absolute()) scene_path = scene_name;
+  if (!fs::is_regular_file(scene_path)) {
+    throw_input_error(root.location_of("scene"), "scene", "a scene file (relative to the experiment file)",
+                      "'" + scene_path.string() + "', which does not exist");
+  }
+  experiment.scene_path = scene_path.lexically_normal().string();
+  experiment.scene_hash = hash_text(read_text(experiment.scene_path));
+  experiment.scene = load_scene(experiment.scene_path);
+  experiment.overrides = nlohmann::json::object();
+  if (std::optional<ConfigNode> overrides = root.optional_child("overrides")) {
+    experiment.overrides = read_overrides(*overrides, experiment.scene);
+  }
+  experiment.frames = read_frames(root, experiment.scene);
+  experiment.repetitions = root.integer_or("repetitions", 3, 1, 1000);
+
+  // Metrics: named ones, or every per-frame metric (plus flicker for animations).
+  if (std::optional<ConfigNode> metrics = root.optional_child("metrics")) {
+    for (size_t i = 0; i < metrics->size(); ++i) {
+      ConfigNode item = metrics->at(i);
+      std::string name = item.as_string();
+      try {
+        find_metric(name);
+      } catch (const InputError& error) {
+        throw_input_error(item.location(), item.path(), "a metric name", std::string(error.what()));
+      }
+      experiment.metrics.push_back(name);
+    }
+  } else {
+    for (const MetricInfo& metric : metric_registry()) {
+      if (metric.per_frame || experiment.frames.size() > 1) experiment.metrics.push_back(metric.name);
+    }
+  }
+  experiment.primary_metric = root.string_or("primary_metric", "relmse");
+  if (std::find(experiment.metrics.begin(), experiment.metrics.end(), experiment.primary_metric) == experiment.metrics.end()) {
+    root.fail("primary_metric", "one of the experiment's metrics: " + join(experiment.metrics, ", "),
+              "'" + experiment.primary_metric + "'");
+  }
+
+  ParamDict reference_dict;
+  if (std::optional<ConfigNode> reference = root.optional_child("reference")) reference_dict.set_from_config(*reference);
+  experiment.reference_params = reference_dict.resolve(find_method("reference").info().params, "reference");
+  experiment.reference_key = hash_json({{"scene_hash", experiment.scene_hash},
+                                        {"overrides", experiment.overrides},
+                                        {"reference", experiment.reference_params.to_json()}});
+
+  ConfigNode methods = root.child("methods");
+  if (methods.size() == 0) methods.fail_here("at least one method entry", "an empty list");
+  std::set<std::string> seen;
+  for (size_t m = 0; m < methods.size(); ++m) {
+    ConfigNode entry = methods.at(m);
+    std::string method_name = entry.string("method");
+    const MethodEntry* method;
+    try {
+      method = &find_method(method_name);
+    } catch (const InputError& error) {
+      throw InputError(fmt::format("{}: {}", entry.location_of("method").describe(), error.what()));
+    }
+    const MethodInfo& info = method->info();
+    std::string label = entry.string_or("label", info.name);
+    KnobAssignment fixed;
+    const ParamPhase build = ParamPhase::build, render = ParamPhase::render;
+    if (std::optional<ConfigNode> node = entry.optional_child("build")) read_fixed(*node, fixed, info, &build);
+    if (std::optional<ConfigNode> node = entry.optional_child("render")) read_fixed(*node, fixed, info, &render);
+    if (std::optional<ConfigNode> node = entry.optional_child("knobs")) read_fixed(*node, fixed, info, nullptr);
+    SweepLists sweep, zip;
+    if (std::optional<ConfigNode> node = entry.optional_child("sweep")) sweep = read_lists(*node);
+    if (std::optional<ConfigNode> node = entry.optional_child("zip")) {
+      zip = read_lists(*node);
+      for (const auto& [name, values] : zip) {
+        if (values.size() != zip.front().second.size()) {
+          node->fail(name, fmt::format("a list of {} values, as long as '{}'", zip.front().second.size(), zip.front().first),
+                     fmt::format("{} values", values.size()));
+        }
+      }
+    }
+    std::set<std::string> varied;
+    for (const auto& list : {sweep, zip}) {
+      for (const auto& [name, values] : list) {
+        if (fixed.count(name) || varied.count(name)) {
+          throw_input_error(values.front().where, name, "each knob either fixed or swept, once", "it twice");
+        }
+        varied.insert(name);
+      }
+    }
+    entry.finish();
+    for (const KnobAssignment& assignment : expand_sweep(fixed, sweep, zip)) {
+      ParamDict dict;
+      for (const auto& [name, value] : assignment) dict.set(name, value.text, value.where);
+      RunSpec run;
+      run.method = info.name;
+      run.params = dict.resolve(info.params, info.name);
+      run.build = select_phase(run.params, info.params, ParamPhase::build);
+      run.render = select_phase(run.params, info.params, ParamPhase::render);
+      std::string swept_text;
+      for (const std::string& name : varied) {
+        run.swept[name] = format_knob_value(run.params.values().at(name));
+        swept_text += fmt::format(" {}={}", name, run.swept[name]);
+      }
+      run.label = label + swept_text;
+      run.spec = {{"scene_hash", experiment.scene_hash}, {"overrides", experiment.overrides},
+                  {"frames", experiment.frames},         {"repetitions", experiment.repetitions},
+                  {"method", info.name},                 {"params", run.params.to_json()}};
+      run.key = hash_json(run.spec);
+      if (!seen.insert(run.key).second) continue;  // the same run twice: keep one
+      experiment.runs.push_back(std::move(run));
+    }
+  }
+  experiment.paper = nullptr;
+  if (std::optional<ConfigNode> paper = root.optional_child("paper")) experiment.paper = read_paper(*paper);
+  root.finish();
+  return experiment;
+}
+
+}  // namespace causticbench

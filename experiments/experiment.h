@@ -1,0 +1,71 @@
+// Experiment files: a scene (with overrides), the reference settings, the methods with fixed knobs and
+// sweeps, the frames, the repetitions and the paper's published values. See docs/experiment-format.md.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/scene.h"
+#include "methods/param_dict.h"
+#include "methods/registry.h"
+
+namespace causticbench {
+
+// One run: a method with every knob resolved. Its key is a hash of everything that determines its
+// output (scene content, overrides, frames, method, knobs, repetitions), so results paths derive from
+// the configuration and a sweep resumes where it stopped.
+struct RunSpec {
+  std::string key;
+  std::string method;
+  std::string label;
+  ParamSet params;                          // every knob, defaults filled in
+  ParamSet build;                           // the build-phase subset
+  ParamSet render;                          // the render-phase subset
+  std::map<std::string, std::string> swept;  // knob -> value text, for the knobs the sweep set
+  nlohmann::json spec;                      // the canonical spec that was hashed
+};
+
+struct Experiment {
+  std::string name;
+  std::string source;        // the experiment file
+  std::string description;
+  std::string scene_path;
+  std::string scene_hash;    // of the scene file's text
+  nlohmann::json overrides;  // as applied (canonical)
+  Scene scene;               // loaded, overrides applied
+  std::vector<int> frames;
+  int repetitions = 3;
+  std::vector<std::string> metrics;
+  std::string primary_metric = "relmse";
+  ParamSet reference_params;
+  std::string reference_key;
+  std::vector<RunSpec> runs;
+  nlohmann::json paper;      // null when absent
+
+  nlohmann::json to_json() const;
+};
+
+// Reads, validates and expands an experiment file. Every defect is an InputError with file, line and
+// column, raised before any work starts.
+Experiment load_experiment(const std::string& path);
+
+// The expansion of one method entry: fixed knobs, cartesian `sweep` lists and paired `zip` lists.
+// Exposed for tests. Each element maps knob name -> (value text, where it came from).
+using KnobAssignment = std::map<std::string, ParamDict::Entry>;
+std::vector<KnobAssignment> expand_sweep(const KnobAssignment& fixed,
+                                         const std::vector<std::pair<std::string, std::vector<ParamDict::Entry>>>& sweep,
+                                         const std::vector<std::pair<std::string, std::vector<ParamDict::Entry>>>& zip);
+
+// 16 hex digits of xxHash64 of the canonical (key-sorted, compact) JSON dump.
+std::string hash_json(const nlohmann::json& value);
+std::string hash_text(const std::string& text);
+
+// --filter: comma-separated terms, each `knob=value` (also `method=NAME`) or a word that must appear
+// in the run's label; a run matches when every term does.
+bool run_matches_filter(const RunSpec& run, const std::string& filter);
+
+}  // namespace causticbench

@@ -1,0 +1,36 @@
+// `causticbench run`: expands an experiment into runs and executes the ones not yet stored.
+// prepare() runs once per distinct set of build knobs and is reused for every render knob; each
+// reference frame is computed once and cached by hash across experiments; each run is timed with
+// one warm-up and N repetitions of update + render per frame.
+#pragma once
+
+#include <string>
+
+#include "experiments/experiment.h"
+
+namespace causticbench {
+
+struct RunOptions {
+  std::string results = "results";
+  bool dry_run = false;
+  bool force = false;
+  std::string filter;
+  int shard_index = 0;
+  int shard_count = 1;
+  int threads = 0;
+};
+
+struct RunSummary {
+  size_t total = 0;      // runs the experiment expands to
+  size_t selected = 0;   // after --filter and --shard
+  size_t stored = 0;     // already stored and skipped
+  size_t completed = 0;  // run now, status ok
+  size_t failed = 0;     // run now, status failed
+};
+
+// "i/n" -> index, count; InputError otherwise.
+void parse_shard(const std::string& text, int& index, int& count);
+
+RunSummary run_experiment(const Experiment& experiment, const RunOptions& options);
+
+}  // namespace causticbench

@@ -1,0 +1,43 @@
+// Reports of a finished experiment: tables, the paper's numbers beside ours, image grids with error
+// maps, and Vega-Lite plots of the speed-versus-error trade-off. Reads only the stored results (see
+// docs/results-format.md); what each part shows and how it is computed: docs/reports.md.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace causticbench {
+
+struct ReportSummary {
+  // Paths of the files written into the experiment folder.
+  std::string html, markdown, csv, json;
+  size_t runs = 0;     // runs with a record.json (ok and failed)
+  size_t failed = 0;   // of those, runs whose status is not "ok"
+  size_t missing = 0;  // runs named in experiment.json without a record.json (not run yet)
+  size_t plots = 0;    // Vega-Lite plots embedded in report.html
+};
+
+// Reads experiment.json, environment.json, runs/*/record.json, runs/*/frame_*.exr and the reference
+// (../references/<reference_key>/record.json and frame_*.exr), then writes report.html, report.md,
+// results.csv, results.json and the report/ folder (thumbnails, error maps, vendored Vega bundles)
+// into the experiment folder. Throws InputError when the folder is not an experiment results folder,
+// std::runtime_error when the vendored Vega bundles are missing from the source tree.
+ReportSummary write_report(const std::string& experiment_folder);
+
+// One run on the error-versus-time plane.
+struct TradeoffPoint {
+  double time = 0.0;   // frame milliseconds (median)
+  double value = 0.0;  // the primary metric
+};
+
+// The Pareto front: indices of the points that no other point dominates, sorted by time (then by
+// value, best first). Point j dominates point i when j is at least as fast and at least as good
+// (!better(i.value, j.value)), and strictly faster or strictly better. `better(a, b)` says whether
+// metric value a is strictly better than b (metric_better for a registered metric). Points with a
+// non-finite time or value are never on the front.
+std::vector<size_t> pareto_front(const std::vector<TradeoffPoint>& points,
+                                 const std::function<bool(double, double)>& better);
+
+}  // namespace causticbench

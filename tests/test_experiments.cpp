@@ -1,0 +1,289 @@
+// Experiments: sweep expansion, stable run keys, strict validation, filters, resume after SIGKILL, and
+// an end-to-end run with its report.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "experiments/experiment.h"
+#include "experiments/runner.h"
+#include "tests/test_support.h"
+
+using namespace causticbench;
+using causticbench::testing::run_command;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A temporary folder with a tiny scene and experiment files.
+class ExperimentFolder {
+ public:
+  explicit ExperimentFolder(const std::string& name) : path_(fs::temp_directory_path() / ("causticbench_" + name)) {
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+    std::string scene = causticbench::testing::kSmallGlassSphere;
+    scene.replace(scene.find("resolution: [40, 40]"), 20, "resolution: [24, 24]");
+    write("scene.yaml", scene);
+  }
+  ~ExperimentFolder() { fs::remove_all(path_); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path_ / name) << text;
+    return (path_ / name).string();
+  }
+  std::string path(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  fs::path path_;
+};
+
+const char* kExperiment = R"(name: tiny
+scene: scene.yaml
+reference: {photons_per_pass: 100000, max_passes: 3, target_noise_floor: 0}
+repetitions: 1
+methods:
+  - method: photon_map
+    render: {max_radius: 0.3}
+    sweep:
+      photons: [1000, 2000]
+      k: [10, 20, 30]
+)";
+
+std::string error_of(const ExperimentFolder& folder, const std::string& text) {
+  return causticbench::testing::input_error_message([&] { load_experiment(folder.write("bad.yaml", text)); });
+}
+
+const auto replace = causticbench::testing::replace_once;
+
+std::vector<std::string> stored_runs(const std::string& runs_folder) {
+  std::vector<std::string> keys;
+  if (!fs::is_directory(runs_folder)) return keys;
+  for (const auto& entry : fs::directory_iterator(runs_folder)) {
+    std::string name = entry.path().filename().string();
+    if (name.rfind(".partial-", 0) == 0) continue;
+    keys.push_back(name);
+  }
+  return keys;
+}
+
+}  // namespace
+
+TEST(Sweep, CartesianZipAndFixed) {
+  auto entry = [](const std::string& text) { return ParamDict::Entry{text, SourceLocation{"test", 1, 1}}; };
+  KnobAssignment fixed{{"seed", entry("3")}};
+  auto runs = expand_sweep(fixed, {{"photons", {entry("10"), entry("20")}}, {"k", {entry("1"), entry("2"), entry("3")}}},
+                           {{"a", {entry("x"), entry("y")}}, {"b", {entry("u"), entry("v")}}});
+  ASSERT_EQ(runs.size(), 2u * 2u * 3u);
+  std::set<std::string> combinations;
+  for (const KnobAssignment& run : runs) {
+    EXPECT_EQ(run.at("seed").text, "3");
+    // zip pairs a with b, never crosses them
+    EXPECT_TRUE((run.at("a").text == "x" && run.at("b").text == "u") || (run.at("a").text == "y" && run.at("b").text == "v"));
+    combinations.insert(run.at("a").text + run.at("photons").text + run.at("k").text);
+  }
+  EXPECT_EQ(combinations.size(), 12u);
+  EXPECT_EQ(expand_sweep(fixed, {}, {}).size(), 1u);
+}
+
+TEST(Experiment, ExpandsAndKeysAreStableAcrossKeyOrder) {
+  ExperimentFolder folder("experiment_keys");
+  Experiment first = load_experiment(folder.write("a.yaml", kExperiment));
+  ASSERT_EQ(first.runs.size(), 6u);
+  EXPECT_EQ(first.runs[0].params.integer("photons"), 1000);
+  EXPECT_EQ(first.runs[0].render.real("max_radius"), 0.3);
+  EXPECT_EQ(first.runs[0].swept.size(), 2u);
+  // The same experiment with every map in another order, numbers written differently.
+  Experiment reordered = load_experiment(folder.write("b.yaml", R"(methods:
+  - sweep:
+      k: [10, 20, 30]
+      photons: [1e3, 2000]
+    render: {max_radius: 0.30}
+    method: photon_map
+repetitions: 1
+reference: {target_noise_floor: 0, max_passes: 3, photons_per_pass: 100000}
+scene: scene.yaml
+name: tiny
+)"));
+  std::set<std::string> keys_a, keys_b;
+  for (const RunSpec& run : first.runs) keys_a.insert(run.key);
+  for (const RunSpec& run : reordered.runs) keys_b.insert(run.key);
+  EXPECT_EQ(keys_a, keys_b);
+  EXPECT_EQ(keys_a.size(), 6u);
+  EXPECT_EQ(first.reference_key, reordered.reference_key);
+  // A different knob value is a different run.
+  Experiment changed = load_experiment(folder.write("c.yaml", replace(kExperiment, "max_radius: 0.3", "max_radius: 0.4")));
+  EXPECT_EQ(changed.runs.size(), 6u);
+  EXPECT_EQ(keys_a.count(changed.runs[0].key), 0u);
+  EXPECT_EQ(first.reference_key, changed.reference_key);
+}
+
+TEST(Experiment, RejectsBadInputWithFileAndLine) {
+  ExperimentFolder folder("experiment_errors");
+  std::string message = error_of(folder, replace(kExperiment, "repetitions: 1", "repetitons: 1"));
+  EXPECT_NE(message.find("bad.yaml:4:1"), std::string::npos) << message;
+  EXPECT_NE(message.find("did you mean 'repetitions'"), std::string::npos) << message;
+  message = error_of(folder, replace(kExperiment, "      k: [10, 20, 30]", "      kk: [10, 20, 30]"));
+  EXPECT_NE(message.find("bad.yaml:10:"), std::string::npos) << message;
+  EXPECT_NE(message.find("unknown parameter 'kk'"), std::string::npos) << message;
+  message = error_of(folder, replace(kExperiment, "render: {max_radius: 0.3}", "render: {photons: 5}"));
+  EXPECT_NE(message.find("bad.yaml:7:"), std::string::npos) << message;
+  EXPECT_NE(message.find("is a build knob"), std::string::npos) << message;
+  message = error_of(folder, replace(kExperiment, "      k: [10, 20, 30]", "      k: [10, 0, 30]"));
+  EXPECT_NE(message.find("bad.yaml:10:"), std::string::npos) << message;
+  EXPECT_NE(message.find("photon_map.k"), std::string::npos) << message;
+  message = error_of(folder, replace(kExperiment, "method: photon_map", "method: photonmap"));
+  EXPECT_NE(message.find("did you mean 'photon_map'"), std::string::npos) << message;
+  message = error_of(folder, replace(kExperiment, "    sweep:", "    zip: {seed: [1, 2, 3]}\n    sweep:"));
+  EXPECT_EQ(message, "no error");
+  message = error_of(folder, replace(kExperiment, "    sweep:", "    zip: {seed: [1, 2, 3], cone_filter_k: [1.1, 1.2]}\n    sweep:"));
+  EXPECT_NE(message.find("a list of 3 values"), std::string::npos) << message;
+  message = error_of(folder, replace(kExperiment, "scene: scene.yaml", "scene: missing.yaml"));
+  EXPECT_NE(message.find("bad.yaml:2:"), std::string::npos) << message;
+  message = error_of(folder, replace(kExperiment, "repetitions: 1", "repetitions: 1\nframes: [3]"));
+  EXPECT_NE(message.find("frame index in 0 .. 0"), std::string::npos) << message;
+  message = error_of(folder, replace(kExperiment, "repetitions: 1", "repetitions: 1\nmetrics: [rmse, psnrr]"));
+  EXPECT_NE(message.find("did you mean 'psnr'"), std::string::npos) << message;
+}
+
+TEST(Experiment, FilterSelectsByKnobMethodAndLabel) {
+  ExperimentFolder folder("experiment_filter");
+  Experiment experiment = load_experiment(folder.write("a.yaml", kExperiment));
+  auto count = [&](const std::string& filter) {
+    size_t n = 0;
+    for (const RunSpec& run : experiment.runs) n += run_matches_filter(run, filter) ? 1 : 0;
+    return n;
+  };
+  EXPECT_EQ(count("k=20"), 2u);
+  EXPECT_EQ(count("k=20,photons=1e3"), 1u);
+  EXPECT_EQ(count("method=photon_map"), 6u);
+  EXPECT_EQ(count("method=reference"), 0u);
+  EXPECT_EQ(count("photons=2000"), 3u);
+  EXPECT_EQ(count("nosuchknob=1"), 0u);
+}
+
+TEST(Runner, ShardsPartitionTheRuns) {
+  ExperimentFolder folder("experiment_shards");
+  Experiment experiment = load_experiment(folder.write("a.yaml", kExperiment));
+  size_t total = 0;
+  for (int shard = 0; shard < 4; ++shard) {
+    RunOptions options;
+    options.dry_run = true;
+    options.shard_index = shard;
+    options.shard_count = 4;
+    options.results = folder.path("results");
+    total += run_experiment(experiment, options).selected;
+  }
+  EXPECT_EQ(total, experiment.runs.size());
+  int index, count;
+  EXPECT_THROW(parse_shard("4/4", index, count), InputError);
+  EXPECT_THROW(parse_shard("a/b", index, count), InputError);
+  parse_shard("1/3", index, count);
+  EXPECT_EQ(index, 1);
+  EXPECT_EQ(count, 3);
+}
+
+// A runner killed with SIGKILL in the middle of a sweep leaves only complete runs; the next
+// invocation completes the sweep with exactly one record per run.
+TEST(Runner, ResumesAfterSigkillWithNothingLostOrDuplicated) {
+  ExperimentFolder folder("experiment_resume");
+  // Heavy enough runs (200k photons, 4 updates each) that the kill lands mid-sweep.
+  std::string experiment_file = folder.write("resume.yaml", replace(replace(kExperiment, "[1000, 2000]", "[200000, 210000]"),
+                                                                    "repetitions: 1", "repetitions: 3"));
+  std::string results = folder.path("results");
+  std::string runs = results + "/tiny/runs";
+  pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    int devnull = open("/dev/null", O_WRONLY);
+    dup2(devnull, 1);
+    dup2(devnull, 2);
+    execl(CAUSTICBENCH_BINARY, CAUSTICBENCH_BINARY, "run", experiment_file.c_str(), "--results", results.c_str(),
+          "--no-report", "--threads", "1", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (stored_runs(runs).empty() && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  kill(child, SIGKILL);
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the runner finished before it could be killed";
+  std::vector<std::string> after_kill = stored_runs(runs);
+  ASSERT_GE(after_kill.size(), 1u);
+  ASSERT_LT(after_kill.size(), 6u) << "the kill did not land mid-sweep";
+  for (const std::string& key : after_kill) {
+    EXPECT_TRUE(fs::is_regular_file(runs + "/" + key + "/record.json")) << key << " is half written";
+    EXPECT_TRUE(fs::is_regular_file(runs + "/" + key + "/frame_0000.exr")) << key << " is half written";
+  }
+  std::string output;
+  int code = run_command(std::string(CAUSTICBENCH_BINARY) + " run " + experiment_file + " --results " + results + " --no-report",
+                         output);
+  ASSERT_EQ(code, 0) << output;
+  EXPECT_NE(output.find(std::to_string(after_kill.size()) + " already stored"), std::string::npos) << output;
+  std::vector<std::string> complete = stored_runs(runs);
+  EXPECT_EQ(complete.size(), 6u);
+  Experiment experiment = load_experiment(experiment_file);
+  std::set<std::string> expected;
+  for (const RunSpec& run : experiment.runs) expected.insert(run.key);
+  EXPECT_EQ(std::set<std::string>(complete.begin(), complete.end()), expected);
+  // No staging folder of the killed runner is left behind.
+  for (const auto& entry : fs::directory_iterator(runs)) {
+    EXPECT_NE(entry.path().filename().string().rfind(".partial-", 0), 0u) << entry.path();
+  }
+  // A third invocation has nothing to do.
+  code = run_command(std::string(CAUSTICBENCH_BINARY) + " run " + experiment_file + " --results " + results + " --no-report",
+                     output);
+  EXPECT_NE(output.find("6 already stored, 0 run now"), std::string::npos) << output;
+}
+
+// The whole pipeline on a tiny experiment: reference, photon_map runs, metrics, report.
+TEST(EndToEnd, TinyExperimentRunsAndReports) {
+  ExperimentFolder folder("experiment_end_to_end");
+  std::string experiment_file = folder.write("tiny.yaml", std::string(kExperiment) + R"(paper:
+  title: made-up published numbers
+  columns: [relmse]
+  rows:
+    - {method: photon_map, match: {photons: 2000, k: 20}, values: {relmse: 0.5}, note: invented for the test}
+)");
+  std::string results = folder.path("results");
+  std::string output;
+  int code = run_command(std::string(CAUSTICBENCH_BINARY) + " run " + experiment_file + " --results " + results, output);
+  ASSERT_EQ(code, 0) << output;
+  EXPECT_NE(output.find("6 run now, 0 failed"), std::string::npos) << output;
+  std::string folder_path = results + "/tiny";
+  for (const char* file : {"report.html", "report.md", "results.csv", "results.json", "experiment.json", "environment.json"}) {
+    EXPECT_TRUE(fs::is_regular_file(folder_path + "/" + file)) << file;
+  }
+  std::ifstream markdown_stream(folder_path + "/report.md");
+  std::string markdown((std::istreambuf_iterator<char>(markdown_stream)), std::istreambuf_iterator<char>());
+  EXPECT_NE(markdown.find("photon_map k=20 photons=2000"), std::string::npos) << markdown.substr(0, 2000);
+  // The paper's value stands beside our matching run.
+  EXPECT_NE(markdown.find("| photon_map | k=20, photons=2000 | photon_map k=20 photons=2000 | 0.5 |"), std::string::npos)
+      << markdown;
+  EXPECT_NE(markdown.find("invented for the test"), std::string::npos);
+  std::ifstream csv_stream(folder_path + "/results.csv");
+  size_t lines = 0;
+  for (std::string line; std::getline(csv_stream, line);) lines += line.empty() ? 0 : 1;
+  EXPECT_EQ(lines, 7u);  // header + 6 runs
+  // Every stored run measured a finite error against the reference.
+  for (const auto& entry : fs::directory_iterator(folder_path + "/runs")) {
+    std::ifstream record_stream(entry.path() / "record.json");
+    nlohmann::json record = nlohmann::json::parse(record_stream);
+    EXPECT_EQ(record["status"], "ok") << record["error"];
+    double relmse = record["metrics"]["relmse"].get<double>();
+    EXPECT_TRUE(std::isfinite(relmse) && relmse > 0.0) << relmse;
+    EXPECT_EQ(record["frames"][0]["render_ms"].size(), 1u);
+  }
+  // The reference cache is reused by a second experiment with the same scene and reference knobs.
+  std::string second = folder.write("second.yaml", replace(std::string(kExperiment), "name: tiny", "name: second"));
+  code = run_command(std::string(CAUSTICBENCH_BINARY) + " run " + second + " --results " + results + " --no-report", output);
+  ASSERT_EQ(code, 0) << output;
+  EXPECT_EQ(output.find("computing"), std::string::npos) << "the reference was computed again: " << output;
+}
