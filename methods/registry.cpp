@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "methods/photon_map/photon_map.h"
+#include "methods/pinhole/pinhole.h"
 #include "methods/reference/reference.h"
 
 namespace causticbench {
@@ -19,6 +20,7 @@ const std::vector<MethodEntry>& method_registry() {
   static const std::vector<MethodEntry> registry = {
       entry<ReferenceMethod>(),
       entry<PhotonMapMethod>(),
+      entry<PinholeMethod>(),
   };
   return registry;
 }

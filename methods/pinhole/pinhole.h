@@ -1,0 +1,44 @@
+// Wand & Strasser 2003, "Real-Time Caustics": every reflector sample is a pinhole camera that projects
+// the light, held in an environment map, onto the receivers. Parameter table: methods/pinhole/README.md.
+#pragma once
+
+#include <memory>
+
+#include "methods/method.h"
+#include "methods/pinhole/light_map.h"
+#include "methods/pinhole/reflector_sampling.h"
+
+namespace causticbench {
+
+class PinholeMethod : public CausticMethod {
+ public:
+  PinholeMethod();
+  ~PinholeMethod() override;
+  static const MethodInfo& static_info();
+  const MethodInfo& info() const override { return static_info(); }
+  void check_scene(const Scene& scene) const override;
+  void prepare(const Scene& scene, const ParamSet& build) override;
+  void update(const FrameContext& frame) override;
+  Image render(const GBuffer& gbuffer, const ParamSet& render) override;
+  size_t memory_bytes() const override;
+  Counters counters() const override;
+  nlohmann::json record() const override;
+
+  // For tests: the samples of the last update.
+  const SampleSet& samples() const { return samples_; }
+
+ private:
+  ParamSet build_;
+  const Scene* scene_ = nullptr;
+  SampleSet samples_;
+  std::vector<const Material*> sample_materials_;
+  LightCubeMap cube_map_;
+  std::unique_ptr<FilteredLightMap> filtered_map_;
+  double evaluations_ = 0.0;
+};
+
+// The specular objects the method samples for an interaction ("reflect": mirrors, diffuse+mirror and
+// glass; "refract": glass).
+std::vector<int> pinhole_reflectors(const Scene& scene, const std::string& interaction);
+
+}  // namespace causticbench
