@@ -45,27 +45,44 @@ std::vector<KnobAssignment> expand_sweep(const KnobAssignment& fixed,
   return result;
 }
 
-bool run_matches_filter(const RunSpec& run, const std::string& filter) {
+bool matches_filter(const std::string& method, const std::string& label, const nlohmann::json& knobs,
+                    const std::string& filter) {
   std::stringstream terms(filter);
   for (std::string term; std::getline(terms, term, ',');) {
     if (term.empty()) continue;
     size_t equals = term.find('=');
     if (equals == std::string::npos) {
-      if (run.label.find(term) == std::string::npos) return false;
+      if (label.find(term) == std::string::npos) return false;
       continue;
     }
     std::string name = term.substr(0, equals), value = term.substr(equals + 1);
     if (name == "method") {
-      if (run.method != value) return false;
+      if (method != value) return false;
       continue;
     }
-    if (!run.params.has(name)) return false;
-    std::string actual = format_param_value(run.params.values().at(name));
-    double a = 0.0, b = 0.0;
-    bool numeric = (std::stringstream(actual) >> a) && (std::stringstream(value) >> b);
-    if (numeric ? a != b : actual != value) return false;
+    if (!knobs.is_object() || !knobs.contains(name)) return false;
+    const nlohmann::json& actual = knobs.at(name);
+    double wanted = 0.0;
+    if (actual.is_number() && (std::stringstream(value) >> wanted)) {
+      if (actual.get<double>() != wanted) return false;
+    } else {
+      std::string text = actual.is_string() ? actual.get<std::string>() : actual.dump();
+      if (text != value) return false;
+    }
   }
   return true;
+}
+
+bool run_matches_filter(const RunSpec& run, const std::string& filter) {
+  return matches_filter(run.method, run.label, run.params.to_json(), filter);
+}
+
+bool record_matches_filter(const nlohmann::json& record, const std::string& filter) {
+  nlohmann::json knobs = nlohmann::json::object();
+  for (const char* phase : {"build", "render"}) {
+    if (record.contains(phase) && record[phase].is_object()) knobs.update(record[phase]);
+  }
+  return matches_filter(record.value("method", ""), record.value("label", ""), knobs, filter);
 }
 
 namespace {
@@ -239,6 +256,46 @@ nlohmann::json read_paper(const ConfigNode& node) {
   return paper;
 }
 
+nlohmann::json read_claims(const ConfigNode& node, const std::vector<std::string>& metrics) {
+  nlohmann::json claims = nlohmann::json::array();
+  const std::vector<std::string> quantities = {"render_ms", "update_ms", "frame_ms", "prepare_seconds", "memory_bytes"};
+  auto quantity = [&](const ConfigNode& claim, const std::string& key) {
+    std::string name = claim.string(key);
+    bool known = std::find(metrics.begin(), metrics.end(), name) != metrics.end() ||
+                 std::find(quantities.begin(), quantities.end(), name) != quantities.end();
+    if (!known) {
+      std::vector<std::string> all = metrics;
+      all.insert(all.end(), quantities.begin(), quantities.end());
+      claim.fail(key, "one of the experiment's metrics or " + join(quantities, ", ") + did_you_mean(name, all), "'" + name + "'");
+    }
+    return name;
+  };
+  for (size_t i = 0; i < node.size(); ++i) {
+    ConfigNode claim = node.at(i);
+    nlohmann::json out;
+    out["text"] = claim.string("text");
+    std::string kind = claim.choice("kind", {"best", "better", "linear"});
+    out["kind"] = kind;
+    if (kind == "best") {
+      out["metric"] = quantity(claim, "metric");
+      out["among"] = claim.string("among");
+      out["expect"] = claim.string("expect");
+    } else if (kind == "better") {
+      out["metric"] = quantity(claim, "metric");
+      out["run"] = claim.string("run");
+      out["than"] = claim.string("than");
+    } else {
+      out["x"] = claim.string("x");
+      out["y"] = quantity(claim, "y");
+      out["among"] = claim.string("among");
+      out["min_r2"] = claim.number_or("min_r2", 0.98, 0.0, 1.0);
+    }
+    claim.finish();
+    claims.push_back(out);
+  }
+  return claims;
+}
+
 }  // namespace
 
 nlohmann::json Experiment::to_json() const {
@@ -258,7 +315,8 @@ nlohmann::json Experiment::to_json() const {
           {"reference", reference_params.to_json()},
           {"reference_key", reference_key},
           {"runs", runs_json},
-          {"paper", paper}};
+          {"paper", paper},
+          {"claims", claims}};
 }
 
 Experiment load_experiment(const std::string& path) {
@@ -382,6 +440,8 @@ Experiment load_experiment(const std::string& path) {
   }
   experiment.paper = nullptr;
   if (std::optional<ConfigNode> paper = root.optional_child("paper")) experiment.paper = read_paper(*paper);
+  experiment.claims = nlohmann::json::array();
+  if (std::optional<ConfigNode> claims = root.optional_child("claims")) experiment.claims = read_claims(*claims, experiment.metrics);
   root.finish();
   return experiment;
 }

@@ -45,6 +45,7 @@ struct Experiment {
   std::string reference_key;
   std::vector<RunSpec> runs;
   nlohmann::json paper;      // null when absent
+  nlohmann::json claims;     // array (possibly empty): the paper's claims the report checks
 
   nlohmann::json to_json() const;
 };
@@ -64,8 +65,13 @@ std::vector<KnobAssignment> expand_sweep(const KnobAssignment& fixed,
 std::string hash_json(const nlohmann::json& value);
 std::string hash_text(const std::string& text);
 
-// --filter: comma-separated terms, each `knob=value` (also `method=NAME`) or a word that must appear
-// in the run's label; a run matches when every term does.
+// --filter (and the claims' run selections): comma-separated terms, each `knob=value` (numbers compare
+// numerically; also `method=NAME`) or a word that must appear in the run's label; a run matches when
+// every term does. `knobs` is a JSON object of knob values.
+bool matches_filter(const std::string& method, const std::string& label, const nlohmann::json& knobs,
+                    const std::string& filter);
 bool run_matches_filter(const RunSpec& run, const std::string& filter);
+// The same for a stored record.json (its build and render knobs).
+bool record_matches_filter(const nlohmann::json& record, const std::string& filter);
 
 }  // namespace causticbench

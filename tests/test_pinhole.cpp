@@ -1,0 +1,261 @@
+// pinhole (Wand & Strasser 2003): sampling strategies, differential geometry, the light map,
+// convergence to the reference, and numerical extremes.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "core/image_statistics.h"
+#include "methods/pinhole/light_map.h"
+#include "methods/pinhole/pinhole.h"
+#include "methods/pinhole/reflector_sampling.h"
+#include "tests/test_support.h"
+
+using namespace causticbench;
+using causticbench::testing::render;
+using causticbench::testing::scene_from_yaml;
+
+namespace {
+
+Scene one_reflector(const std::string& shape, const std::string& light = "{type: directional, direction: [0, -1, 0], irradiance: 1, solid_angle_sr: 0.01}") {
+  return scene_from_yaml("camera: {position: [0, 3, 3], look_at: [0, 0, 0], resolution: [8, 8]}\nlights: [" + light +
+                         "]\nobjects:\n  - shape: " + shape + "\n    material: {type: mirror, reflectance: 1}\n");
+}
+
+SampleSet draw(const Scene& scene, size_t target, SamplingStrategy strategy) {
+  SceneFrame frame(scene, 0);
+  return sample_reflectors(frame, {0}, target, strategy, 7);
+}
+
+}  // namespace
+
+TEST(PinholeSampling, CountsLandNearTheTarget) {
+  Scene scene = one_reflector("{type: sphere, radius: 1}");
+  for (SamplingStrategy strategy : {SamplingStrategy::random, SamplingStrategy::grid, SamplingStrategy::quantized_grid,
+                                    SamplingStrategy::neighborhood}) {
+    for (size_t target : {50u, 2000u}) {
+      SampleSet set = draw(scene, target, strategy);
+      // The cell size or sphere diameter is bisected until the count is within 1 % where possible;
+      // the stated tolerance is 5 %.
+      EXPECT_NEAR(static_cast<double>(set.samples.size()), static_cast<double>(target), 0.05 * target)
+          << static_cast<int>(strategy);
+      EXPECT_NEAR(set.total_area, 4.0 * kPiDouble, 1e-9);
+      double area_sum = 0.0;
+      for (const ReflectorSample& sample : set.samples) area_sum += sample.area;
+      EXPECT_NEAR(area_sum, set.total_area, 1e-3 * set.total_area);  // each sample stands for A / N
+    }
+  }
+}
+
+TEST(PinholeSampling, RandomAndNeighbourhoodAreAreaUniform) {
+  // Chi-square over 8 equal-area latitude bands x 8 longitude sectors of the unit sphere; 63 degrees of
+  // freedom: the 99.9 % quantile is 103.4. Fixed seed.
+  Scene scene = one_reflector("{type: sphere, radius: 1}");
+  for (SamplingStrategy strategy : {SamplingStrategy::random, SamplingStrategy::neighborhood}) {
+    SampleSet set = draw(scene, 6400, strategy);
+    std::vector<double> counts(64, 0.0);
+    for (const ReflectorSample& sample : set.samples) {
+      int band = std::min(7, static_cast<int>((sample.position.y + 1.0f) * 4.0f));
+      double phi = std::atan2(sample.position.z, sample.position.x) + kPiDouble;
+      int sector = std::min(7, static_cast<int>(phi / (2.0 * kPiDouble) * 8.0));
+      counts[band * 8 + sector] += 1.0;
+    }
+    double expected = static_cast<double>(set.samples.size()) / 64.0, chi_square = 0.0;
+    for (double count : counts) chi_square += (count - expected) * (count - expected) / expected;
+    EXPECT_LT(chi_square, 103.4) << static_cast<int>(strategy);
+    // The neighbourhood sampling is far more even than random (the paper's point): well below the mean
+    // of the chi-square distribution (63).
+    if (strategy == SamplingStrategy::neighborhood) EXPECT_LT(chi_square, 30.0);
+  }
+  // Mesh sampling: a box, area-uniform over its faces (the 2 x 1 x 1 box has face areas 2, 2, 2, 2, 1, 1).
+  Scene box = one_reflector("{type: box, size: [2, 1, 1]}");
+  SampleSet set = draw(box, 10000, SamplingStrategy::random);
+  int on_small_faces = 0;
+  for (const ReflectorSample& sample : set.samples) on_small_faces += std::abs(std::abs(sample.position.x) - 1.0f) < 1e-4f;
+  // Expected 2 / 10 of the samples; binomial standard deviation 40: 5 sigma is 200.
+  EXPECT_NEAR(on_small_faces, 2000, 200);
+}
+
+TEST(PinholeSampling, NeighbourhoodKeepsItsMinimumSpacing) {
+  Scene scene = one_reflector("{type: ring, radius: 1, height: 0.5}");
+  SampleSet set = draw(scene, 500, SamplingStrategy::neighborhood);
+  ASSERT_GT(set.cell_or_diameter, 0.0);
+  float diameter2 = static_cast<float>(set.cell_or_diameter * set.cell_or_diameter);
+  for (size_t i = 0; i < set.samples.size(); ++i) {
+    for (size_t j = i + 1; j < set.samples.size(); ++j) {
+      Vec3 offset = set.samples[i].position - set.samples[j].position;
+      ASSERT_GE(glm::dot(offset, offset), diameter2 * (1.0f - 1e-5f)) << i << " " << j;
+    }
+  }
+}
+
+TEST(PinholeSampling, QuantizedGridSnapsToCellCentres) {
+  Scene scene = one_reflector("{type: sphere, radius: 1}");
+  SampleSet set = draw(scene, 300, SamplingStrategy::quantized_grid);
+  double cell = set.cell_or_diameter;
+  for (const ReflectorSample& sample : set.samples) {
+    glm::dvec3 in_cell = glm::dvec3(sample.position) / cell - glm::floor(glm::dvec3(sample.position) / cell);
+    EXPECT_NEAR(in_cell.x, 0.5, 1e-3);
+    EXPECT_NEAR(in_cell.z, 0.5, 1e-3);
+  }
+}
+
+TEST(PinholeDifferentials, CurvatureOfASphereAndACylinder) {
+  // Sphere of radius 2: both principal curvatures 1/2. Cylinder (thin ring) of radius 0.5: 2 and 0.
+  Scene sphere = one_reflector("{type: sphere, radius: 2}");
+  SampleSet set = draw(sphere, 400, SamplingStrategy::neighborhood);
+  estimate_differentials(set, 1.5 * set.spacing);
+  double sum_u = 0.0, sum_v = 0.0;
+  for (const ReflectorSample& sample : set.samples) {
+    sum_u += sample.curvature_u;
+    sum_v += sample.curvature_v;
+  }
+  EXPECT_NEAR(sum_u / set.samples.size(), 0.5, 0.02);
+  EXPECT_NEAR(sum_v / set.samples.size(), 0.5, 0.02);
+
+  Scene cylinder = one_reflector("{type: ring, radius: 0.5, height: 4}");
+  SampleSet ring = draw(cylinder, 800, SamplingStrategy::neighborhood);
+  estimate_differentials(ring, 1.5 * ring.spacing);
+  double large = 0.0, small = 0.0, along_axis = 0.0;
+  size_t count = 0;
+  for (const ReflectorSample& sample : ring.samples) {
+    if (sample.position.y < 0.5f || sample.position.y > 3.5f) continue;  // away from the rims
+    large += std::max(std::abs(sample.curvature_u), std::abs(sample.curvature_v));
+    small += std::min(std::abs(sample.curvature_u), std::abs(sample.curvature_v));
+    // The flat direction is the cylinder's axis.
+    const Vec3& flat = std::abs(sample.curvature_u) < std::abs(sample.curvature_v) ? sample.direction_u : sample.direction_v;
+    along_axis += std::abs(flat.y);
+    ++count;
+  }
+  ASSERT_GT(count, 300u);
+  EXPECT_NEAR(large / count, 2.0, 0.1);
+  EXPECT_NEAR(small / count, 0.0, 0.05);
+  EXPECT_GT(along_axis / count, 0.98);
+}
+
+TEST(PinholeLightMap, HoldsTheExactIrradianceOfEveryLight) {
+  // A compact disk source, a sub-texel source (1e-6 sr) and a Gaussian spot: the map's integral of
+  // radiance over solid angle equals each light's irradiance.
+  for (const std::string& light : {std::string("{type: directional, direction: [0.3, -1, 0.2], irradiance: 2, solid_angle_sr: 0.01}"),
+                                   std::string("{type: directional, direction: [0.3, -1, 0.2], irradiance: 2, solid_angle_sr: 0.000001}"),
+                                   std::string("{type: environment, procedural: gaussian_spot, direction: [0, -1, 0], irradiance: 2, solid_angle_sr: 0.05}")}) {
+    Scene scene = one_reflector("{type: sphere, radius: 1}", light);
+    SceneFrame frame(scene, 0);
+    DistantLights lights(frame, Vec3(0.0f));
+    LightCubeMap map(lights, 64);
+    EXPECT_NEAR(map.integral().r, 2.0f, 2e-3f) << light;
+  }
+}
+
+TEST(PinholeLightMap, CubeMapAndFilteredLatLongAgree) {
+  // A wide Gaussian spot: the cube map (bilinear) and the OpenImageIO lat-long texture (tiny footprint)
+  // give the same radiance in the same directions, which pins down both layouts.
+  Scene scene = one_reflector("{type: sphere, radius: 1}",
+                              "{type: environment, procedural: gaussian_spot, direction: [0.5, -1, 0.3], irradiance: 1, solid_angle_sr: 0.3}");
+  SceneFrame frame(scene, 0);
+  DistantLights lights(frame, Vec3(0.0f));
+  LightCubeMap cube(lights, 128);
+  FilteredLightMap filtered(lights, 256);
+  Random random(3, 0);
+  for (int i = 0; i < 200; ++i) {
+    Vec3 direction = sample_sphere(random.uniform(), random.uniform());
+    Color a = cube.lookup(direction), b = filtered.lookup(direction, Vec3(1e-4f, 0, 0), Vec3(0, 0, 1e-4f), true);
+    EXPECT_NEAR(a.r, b.r, 0.03f * std::max(1.0f, a.r)) << direction.x << " " << direction.y << " " << direction.z;
+  }
+  // Round trip of the cube layout.
+  for (int i = 0; i < 200; ++i) {
+    Vec3 direction = sample_sphere(random.uniform(), random.uniform());
+    int face;
+    float s, t;
+    LightCubeMap::direction_to_texel(direction, 64, face, s, t);
+    Vec3 back = LightCubeMap::texel_direction(face, s / 64.0f, t / 64.0f);
+    EXPECT_GT(glm::dot(back, direction), 0.99999f);
+  }
+}
+
+namespace {
+
+// A mirror sphere above a floor under a wide light from above: one reflection, no occlusion of the
+// reflected light, so the pinhole method converges to the reference.
+const char* kMirrorSphere = R"(
+camera: {type: orthographic, position: [0, 5, 0.01], look_at: [0, 0, 0], view_height: 4, resolution: [32, 32]}
+lights: [{type: environment, procedural: gaussian_spot, direction: [0.4, -1, 0], irradiance: 1, solid_angle_sr: 0.2}]
+objects:
+  - shape: {type: quad, size: [8, 8]}
+    material: {type: diffuse}
+  - shape: {type: sphere, radius: 0.5}
+    material: {type: mirror, reflectance: 0.9}
+    transform: {translate: [0, 1.2, 0]}
+)";
+
+}  // namespace
+
+TEST(Pinhole, ConvergesToTheReference) {
+  Scene scene = scene_from_yaml(kMirrorSphere);
+  FrameResult reference = render(scene, "reference", {"photons_per_pass=400000", "max_passes=40", "target_noise_floor=0"});
+  std::vector<double> errors;
+  for (int samples : {30, 300, 3000}) {
+    FrameResult run = render(scene, "pinhole", {"samples=" + std::to_string(samples)});
+    errors.push_back(relative_mse(run.caustic, reference.caustic, run.gbuffer.receiver));
+  }
+  EXPECT_LT(errors[1], errors[0]);
+  EXPECT_LT(errors[2], errors[1]);
+  FrameResult filtered = render(scene, "pinhole", {"samples=10000", "filtering=anisotropic"});
+  double energy = masked_sum(filtered.caustic, filtered.gbuffer.receiver) / masked_sum(reference.caustic, filtered.gbuffer.receiver);
+  // Within a few percent: the reference's own noise is below 1 % here; the rest is the map's resolution.
+  EXPECT_NEAR(energy, 1.0, 0.04);
+  EXPECT_LT(relative_mse(filtered.caustic, reference.caustic, filtered.gbuffer.receiver), errors[0]);
+}
+
+TEST(Pinhole, ExtremesStayFiniteAndSane) {
+  auto all_finite = [](const FrameResult& result) {
+    for (float value : result.caustic.values()) {
+      if (!std::isfinite(value) || value < 0.0f) return false;
+    }
+    return true;
+  };
+  Scene scene = scene_from_yaml(kMirrorSphere);
+  FrameResult one = render(scene, "pinhole", {"samples=1"});
+  EXPECT_TRUE(all_finite(one));
+  EXPECT_EQ(one.counters[0].second, 1.0);
+  FrameResult million = render(scene, "pinhole", {"samples=1000000", "sampling=random"});
+  EXPECT_TRUE(all_finite(million));
+  // A receiver on the reflector itself (the cup's diffuse+mirror bottom, lit by its own wall): the
+  // epsilon term keeps the samples under a receiver point finite.
+  Scene cup = scene_from_yaml(R"(
+camera: {position: [0, 3, 0.5], look_at: [0, 0, 0], resolution: [24, 24]}
+lights: [{type: point, position: [-2, 2, 0], intensity: 5}]
+objects:
+  - shape: {type: cup, radius: 1, height: 1}
+    material: {type: diffuse_mirror, albedo: 0.3, reflectance: 0.6}
+)");
+  FrameResult self = render(cup, "pinhole", {"samples=2000"});
+  EXPECT_TRUE(all_finite(self));
+  EXPECT_GT(masked_sum(self.caustic, self.gbuffer.receiver), 0.0);
+  FrameResult no_epsilon = render(cup, "pinhole", {"samples=2000", "epsilon=0"});
+  EXPECT_TRUE(all_finite(no_epsilon));
+  // Grazing light and a light of 1e-6 sr.
+  for (const std::string& light : {std::string("{type: directional, direction: [1, -0.001, 0], irradiance: 1}"),
+                                   std::string("{type: directional, direction: [0.4, -1, 0], irradiance: 1, solid_angle_sr: 0.000001}")}) {
+    std::string text = kMirrorSphere;
+    size_t begin = text.find("lights: [") + 9, end = text.find("]\nobjects");
+    text.replace(begin, end - begin, light);
+    FrameResult result = render(scene_from_yaml(text), "pinhole", {"samples=500"});
+    EXPECT_TRUE(all_finite(result)) << light;
+  }
+}
+
+TEST(Pinhole, ZeroAreaReflectorIsAClearError) {
+  namespace fs = std::filesystem;
+  fs::path file = fs::temp_directory_path() / "causticbench_flat_mesh.obj";
+  std::ofstream(file) << "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n";  // a degenerate triangle: zero area
+  Scene scene = scene_from_yaml("camera: {position: [0, 3, 3], look_at: [0, 0, 0], resolution: [8, 8]}\n"
+                                "lights: [{type: directional, direction: [0, -1, 0], irradiance: 1}]\n"
+                                "objects:\n  - shape: {type: quad, size: [4, 4]}\n    material: {type: diffuse}\n"
+                                "  - shape: {type: mesh, asset: " + file.string() + ", smooth_normals: false}\n"
+                                "    material: {type: mirror}\n");
+  std::string message = causticbench::testing::input_error_message([&] { render(scene, "pinhole", {"samples=10"}); });
+  EXPECT_NE(message.find("reflector of zero area"), std::string::npos) << message;
+  fs::remove(file);
+}
