@@ -21,6 +21,7 @@
 #include "core/files.h"
 #include "core/image.h"
 #include "core/image_statistics.h"
+#include "experiments/experiment.h"
 #include "metrics/metrics.h"
 
 namespace causticbench {
@@ -240,6 +241,39 @@ struct Plot {
   json spec;
 };
 
+// A claim of experiment.json checked on the stored runs (docs/reports.md, "Claims"). Run indices are
+// into Report::runs; the evidence text is made from these fields when the report is written.
+struct LinearGroup {
+  json knobs = json::object();  // the values of the grouping knobs (empty when there is one group)
+  std::vector<size_t> runs;
+  std::vector<double> xs, ys;
+  bool fitted = false;          // >= 3 points and x varies
+  double slope = NAN, intercept = NAN, r2 = NAN;
+  bool passed = false;
+};
+
+struct ClaimPoint {
+  size_t run = 0;
+  double value = NAN;
+};
+
+struct ClaimResult {
+  json claim;                // as experiment.json states it
+  std::string kind, verdict;  // verdict: "confirmed", "not confirmed" or "not measured"
+  std::string quantity;      // metric (best, better) or y (linear)
+  std::string problem;       // a malformed claim: what is wrong with it
+  // best: the runs matching `among` (with a value), split by `expect`.
+  // better: the runs matching `run` (first) and `than` (other).
+  size_t first_count = 0, other_count = 0, failed_first = 0, failed_other = 0;
+  std::optional<ClaimPoint> first, other;  // best: best matching / not matching `expect`;
+                                           // better: worst of `run`, best of `than`
+  // linear
+  std::vector<std::string> group_by;
+  std::vector<LinearGroup> groups;
+  size_t points = 0;
+  double min_r2 = 0.98;
+};
+
 struct Report {
   fs::path folder;
   std::string folder_text;
@@ -263,6 +297,7 @@ struct Report {
   std::vector<Thumbnail> thumbnails;
   std::string error_scale_text;  // what the brightest colour of the error maps means
   std::vector<Plot> plots;
+  std::vector<ClaimResult> claims;
 
   std::vector<size_t> ok_runs() const {
     std::vector<size_t> indices;
@@ -1189,6 +1224,395 @@ Table paper_table(const Report& report) {
   return table;
 }
 
+// ---------------------------------------------------------------------------------------------------
+// Claims: the paper's statements checked on the stored runs (docs/reports.md, "Claims").
+
+const char* const kClaimQuantities[] = {"render_ms", "update_ms", "frame_ms", "prepare_seconds", "memory_bytes"};
+constexpr size_t kLinearMinPoints = 3;
+
+bool is_claim_quantity(const std::string& name) {
+  return std::any_of(std::begin(kClaimQuantities), std::end(kClaimQuantities),
+                     [&](const char* quantity) { return name == quantity; });
+}
+
+// A claim's metric or quantity of a run: metrics from "metrics"; timings (medians), prepare seconds and
+// memory through the paper block's lookup.
+std::optional<double> claim_value(const Run& run, const std::string& name) {
+  std::optional<double> value = is_claim_quantity(name) ? ours(run, name) : run.metric(name);
+  return finite(value) ? value : std::nullopt;
+}
+
+// Timings and memory: lower is better; metrics: the registry's direction.
+bool claim_better(const std::string& name, double a, double b) {
+  if (is_claim_quantity(name)) return !std::isnan(a) && (std::isnan(b) || a < b);
+  return better(name, a, b);
+}
+
+std::string claim_direction(const std::string& name) {
+  return is_claim_quantity(name) ? "lower is better" : direction_text(name);
+}
+
+// The run's resolved knobs, build then render (as record_matches_filter sees them).
+json run_knobs(const Run& run) {
+  json knobs = json::object();
+  for (const char* phase : {"build", "render"})
+    if (member(run.record, phase).is_object()) knobs.update(member(run.record, phase));
+  return knobs;
+}
+
+std::optional<double> knob_number(const json& knobs, const std::string& name) {
+  const json& value = member(knobs, name);
+  if (value.is_number()) return value.get<double>();
+  if (value.is_string()) {
+    const std::string& text = value.get_ref<const std::string&>();
+    try {
+      size_t used = 0;
+      double parsed = std::stod(text, &used);
+      if (used == text.size()) return parsed;
+    } catch (const std::exception&) {
+    }
+  }
+  return std::nullopt;
+}
+
+// The ok runs matching `filter` that have a value of `quantity`, and how many failed runs match it.
+std::vector<ClaimPoint> claim_points(const Report& report, const std::string& filter, const std::string& quantity,
+                                     size_t& failed) {
+  std::vector<ClaimPoint> points;
+  failed = 0;
+  for (size_t i = 0; i < report.runs.size(); ++i) {
+    const Run& run = report.runs[i];
+    if (!record_matches_filter(run.record, filter)) continue;
+    if (!run.ok) {
+      ++failed;
+      continue;
+    }
+    if (auto value = claim_value(run, quantity)) points.push_back({i, *value});
+  }
+  return points;
+}
+
+// The best point (first of equals), or the worst with `worst`.
+std::optional<ClaimPoint> extreme(const std::vector<ClaimPoint>& points, const std::string& quantity, bool worst) {
+  std::optional<ClaimPoint> found;
+  for (const ClaimPoint& point : points) {
+    if (!found || (worst ? claim_better(quantity, found->value, point.value)
+                         : claim_better(quantity, point.value, found->value)))
+      found = point;
+  }
+  return found;
+}
+
+// Least squares y = slope x + intercept; R^2 = 1 - SS_res / SS_tot (1 for an exact fit).
+void fit_line(LinearGroup& group) {
+  size_t n = group.xs.size();
+  if (n < kLinearMinPoints) return;
+  double mean_x = 0.0, mean_y = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    mean_x += group.xs[i];
+    mean_y += group.ys[i];
+  }
+  mean_x /= static_cast<double>(n);
+  mean_y /= static_cast<double>(n);
+  double sxx = 0.0, sxy = 0.0, syy = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    double dx = group.xs[i] - mean_x, dy = group.ys[i] - mean_y;
+    sxx += dx * dx;
+    sxy += dx * dy;
+    syy += dy * dy;
+  }
+  if (!(sxx > 0.0)) return;  // x does not vary: no line to fit
+  group.fitted = true;
+  group.slope = sxy / sxx;
+  group.intercept = mean_y - group.slope * mean_x;
+  double residual = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    double e = group.ys[i] - (group.slope * group.xs[i] + group.intercept);
+    residual += e * e;
+  }
+  group.r2 = syy > 0.0 ? 1.0 - residual / syy : 1.0;
+}
+
+void evaluate_best(const Report& report, ClaimResult& result) {
+  std::string among = string_member(result.claim, "among"), expect = string_member(result.claim, "expect");
+  std::vector<ClaimPoint> points = claim_points(report, among, result.quantity, result.failed_first);
+  std::vector<ClaimPoint> expected, others;
+  for (const ClaimPoint& point : points)
+    (record_matches_filter(report.runs[point.run].record, expect) ? expected : others).push_back(point);
+  result.first_count = expected.size();
+  result.other_count = others.size();
+  result.first = extreme(expected, result.quantity, false);
+  result.other = extreme(others, result.quantity, false);
+  if (points.size() < 2 || !result.first || !result.other) return;
+  result.verdict = claim_better(result.quantity, result.first->value, result.other->value) ? "confirmed"
+                                                                                            : "not confirmed";
+}
+
+void evaluate_better(const Report& report, ClaimResult& result) {
+  std::vector<ClaimPoint> mine =
+      claim_points(report, string_member(result.claim, "run"), result.quantity, result.failed_first);
+  std::vector<ClaimPoint> theirs =
+      claim_points(report, string_member(result.claim, "than"), result.quantity, result.failed_other);
+  result.first_count = mine.size();
+  result.other_count = theirs.size();
+  result.first = extreme(mine, result.quantity, true);
+  result.other = extreme(theirs, result.quantity, false);
+  if (!result.first || !result.other) return;
+  result.verdict = claim_better(result.quantity, result.first->value, result.other->value) ? "confirmed"
+                                                                                            : "not confirmed";
+}
+
+void evaluate_linear(const Report& report, ClaimResult& result) {
+  std::string x = string_member(result.claim, "x");
+  result.min_r2 = number(result.claim, "min_r2").value_or(0.98);
+  std::vector<size_t> runs;
+  std::vector<json> knobs;
+  std::vector<double> xs, ys;
+  for (size_t i = 0; i < report.runs.size(); ++i) {
+    const Run& run = report.runs[i];
+    if (!record_matches_filter(run.record, string_member(result.claim, "among"))) continue;
+    if (!run.ok) {
+      ++result.failed_first;
+      continue;
+    }
+    json resolved = run_knobs(run);
+    auto x_value = knob_number(resolved, x);
+    auto y_value = claim_value(run, result.quantity);
+    if (!finite(x_value) || !y_value) continue;
+    resolved.erase(x);
+    resolved["method"] = run.method;
+    runs.push_back(i);
+    knobs.push_back(std::move(resolved));
+    xs.push_back(*x_value);
+    ys.push_back(*y_value);
+  }
+  result.points = runs.size();
+  // Group by every other knob (and the method) whose value differs between the runs.
+  std::set<std::string> names;
+  for (const json& k : knobs)
+    for (const auto& [name, value] : k.items()) names.insert(name);
+  for (const std::string& name : names) {
+    std::set<std::string> values;
+    for (const json& k : knobs) values.insert(member(k, name).dump());
+    if (values.size() > 1) result.group_by.push_back(name);
+  }
+  if (std::count(result.group_by.begin(), result.group_by.end(), "method")) {
+    result.group_by.erase(std::find(result.group_by.begin(), result.group_by.end(), "method"));
+    result.group_by.insert(result.group_by.begin(), "method");
+  }
+  for (size_t p = 0; p < runs.size(); ++p) {
+    json key = json::object();
+    for (const std::string& name : result.group_by) key[name] = member(knobs[p], name);
+    auto group = std::find_if(result.groups.begin(), result.groups.end(),
+                              [&](const LinearGroup& g) { return g.knobs == key; });
+    if (group == result.groups.end()) {
+      result.groups.push_back(LinearGroup{});
+      group = std::prev(result.groups.end());
+      group->knobs = key;
+    }
+    group->runs.push_back(runs[p]);
+    group->xs.push_back(xs[p]);
+    group->ys.push_back(ys[p]);
+  }
+  bool any = false, all = true;
+  for (LinearGroup& group : result.groups) {
+    fit_line(group);
+    if (!group.fitted) continue;
+    group.passed = group.r2 >= result.min_r2;
+    any = true;
+    all = all && group.passed;
+  }
+  if (any) result.verdict = all ? "confirmed" : "not confirmed";
+}
+
+void evaluate_claims(Report& report) {
+  const json& claims = member(report.experiment, "claims");
+  if (!claims.is_array()) return;
+  for (const json& claim : claims) {
+    ClaimResult result;
+    result.claim = claim;
+    result.kind = string_member(claim, "kind");
+    result.verdict = "not measured";
+    std::vector<std::string> needed;
+    if (result.kind == "best")
+      needed = {"metric", "among", "expect"};
+    else if (result.kind == "better")
+      needed = {"metric", "run", "than"};
+    else if (result.kind == "linear")
+      needed = {"x", "y", "among"};
+    else
+      result.problem = "unknown kind '" + result.kind + "' (expected best, better or linear)";
+    for (const std::string& field : needed)
+      if (!member(claim, field).is_string() && result.problem.empty())
+        result.problem = "the claim has no '" + field + "'";
+    result.quantity = string_member(claim, result.kind == "linear" ? "y" : "metric");
+    if (result.problem.empty()) {
+      if (result.kind == "best")
+        evaluate_best(report, result);
+      else if (result.kind == "better")
+        evaluate_better(report, result);
+      else
+        evaluate_linear(report, result);
+    }
+    report.claims.push_back(std::move(result));
+  }
+}
+
+enum class Format { plain, markdown, html };
+
+std::string code_text(const std::string& text, Format format) {
+  if (format == Format::markdown) return "`" + text + "`";
+  if (format == Format::html) return "<code>" + html_escape(text) + "</code>";
+  return text;
+}
+
+std::string escaped(const std::string& text, Format format) {
+  return format == Format::html ? html_escape(text) : text;
+}
+
+std::string runs_text(size_t count) { return fmt::format("{} run{}", count, count == 1 ? "" : "s"); }
+
+std::string failed_note(size_t failed) {
+  return failed ? fmt::format(" ({} failed run{} not counted)", failed, failed == 1 ? "" : "s") : "";
+}
+
+// Why the claim has its verdict, with the numbers that decided it.
+std::string claim_evidence(const Report& report, const ClaimResult& result, Format format) {
+  if (!result.problem.empty()) return escaped(result.problem, format);
+  const json& claim = result.claim;
+  std::string quantity = escaped(result.quantity, format);
+  auto point = [&](const ClaimPoint& p) {
+    return escaped(report.runs[p.run].label, format) + " (" + quantity + " " + num(p.value) + ")";
+  };
+  std::string direction = quantity + ": " + escaped(claim_direction(result.quantity), format) + ".";
+  if (result.kind == "best") {
+    std::string among = code_text(string_member(claim, "among"), format);
+    std::string expect = code_text(string_member(claim, "expect"), format);
+    size_t total = result.first_count + result.other_count;
+    if (result.verdict == "not measured") {
+      return fmt::format("{} with a {} value match{} {}{}, {} of them matching {}: the check needs at least 2, "
+                         "one matching {} and one not.",
+                         runs_text(total), quantity, total == 1 ? "es" : "", among, failed_note(result.failed_first),
+                         result.first_count, expect, expect);
+    }
+    bool confirmed = result.verdict == "confirmed";
+    const ClaimPoint& best = confirmed ? *result.first : *result.other;
+    const ClaimPoint& runner = confirmed ? *result.other : *result.first;
+    return fmt::format("best of {} matching {}{}: {}, which {} {}; best run {} it: {}. {}", runs_text(total), among,
+                       failed_note(result.failed_first), point(best), confirmed ? "matches" : "does not match",
+                       expect, confirmed ? "not matching" : "matching", point(runner), direction);
+  }
+  if (result.kind == "better") {
+    std::string run = code_text(string_member(claim, "run"), format);
+    std::string than = code_text(string_member(claim, "than"), format);
+    if (result.verdict == "not measured") {
+      return fmt::format("{} with a {} value match{} {}{}, {} match{} {}{}: the check needs at least 1 on each side.",
+                         runs_text(result.first_count), quantity, result.first_count == 1 ? "es" : "", run,
+                         failed_note(result.failed_first), result.other_count, result.other_count == 1 ? "es" : "",
+                         than, failed_note(result.failed_other));
+    }
+    return fmt::format("worst of {} matching {}{}: {}; best of {} matching {}{}: {}. {}",
+                       runs_text(result.first_count), run, failed_note(result.failed_first), point(*result.first),
+                       runs_text(result.other_count), than, failed_note(result.failed_other), point(*result.other),
+                       direction);
+  }
+  std::string x = escaped(string_member(claim, "x"), format);
+  std::string among = code_text(string_member(claim, "among"), format);
+  std::string grouped = result.group_by.empty() ? "" : ", grouped by " + escaped(join(result.group_by, ", "), format);
+  std::string text = fmt::format("{} against {} over {} matching {}{}{}", quantity, x, runs_text(result.points), among,
+                                 failed_note(result.failed_first), grouped);
+  if (result.verdict == "not measured") {
+    return text + fmt::format(": no {} has {} points with different {} values to fit.",
+                              result.group_by.empty() ? "set" : "group", kLinearMinPoints, x);
+  }
+  std::vector<std::string> parts;
+  for (const LinearGroup& group : result.groups) {
+    std::string part = group.knobs.empty() ? "" : escaped(knobs_text(group.knobs), format) + ": ";
+    if (!group.fitted) {
+      part += fmt::format("{} point{}, not fitted", group.xs.size(), group.xs.size() == 1 ? "" : "s");
+    } else {
+      part += fmt::format("{} = {} \u00d7 {} {} {}, R\u00b2 {} {} {}, n = {}", quantity, num(group.slope), x,
+                          group.intercept < 0 ? "\u2212" : "+", num(std::abs(group.intercept)), num(group.r2),
+                          group.passed ? "\u2265" : "<", num(result.min_r2), group.xs.size());
+    }
+    parts.push_back(part);
+  }
+  return text + ": " + join(parts, "; ") + ".";
+}
+
+json claim_point_json(const Report& report, const std::optional<ClaimPoint>& point) {
+  if (!point) return nullptr;
+  const Run& run = report.runs[point->run];
+  return {{"key", run.key}, {"label", run.label}, {"value", point->value}};
+}
+
+// The claim as experiment.json states it, with "verdict", "evidence" (plain text) and "details".
+json claim_json(const Report& report, const ClaimResult& result) {
+  json out = result.claim.is_object() ? result.claim : json{{"claim", result.claim}};
+  out["verdict"] = result.verdict;
+  out["evidence"] = claim_evidence(report, result, Format::plain);
+  json details = json::object();
+  if (!result.problem.empty()) {
+    details["problem"] = result.problem;
+  } else if (result.kind == "best") {
+    details = {{"direction", claim_direction(result.quantity)},
+               {"runs", result.first_count + result.other_count},
+               {"matching_expect", result.first_count},
+               {"failed_runs", result.failed_first},
+               {"best_matching_expect", claim_point_json(report, result.first)},
+               {"best_not_matching_expect", claim_point_json(report, result.other)}};
+    if (result.verdict != "not measured")
+      details["best"] = claim_point_json(report, result.verdict == "confirmed" ? result.first : result.other);
+  } else if (result.kind == "better") {
+    details = {{"direction", claim_direction(result.quantity)},
+               {"run_runs", result.first_count},
+               {"than_runs", result.other_count},
+               {"failed_runs", result.failed_first + result.failed_other},
+               {"worst_of_run", claim_point_json(report, result.first)},
+               {"best_of_than", claim_point_json(report, result.other)}};
+  } else {
+    json groups = json::array();
+    const LinearGroup* only = nullptr;
+    size_t fitted = 0;
+    for (const LinearGroup& group : result.groups) {
+      json keys = json::array();
+      for (size_t i : group.runs) keys.push_back(report.runs[i].key);
+      json entry = {{"knobs", group.knobs}, {"n", group.xs.size()}, {"runs", keys}, {"fitted", group.fitted}};
+      if (group.fitted) {
+        entry.update(
+            {{"slope", group.slope}, {"intercept", group.intercept}, {"r2", group.r2}, {"passed", group.passed}});
+        only = &group;
+        ++fitted;
+      }
+      groups.push_back(entry);
+    }
+    details = {{"n", result.points}, {"failed_runs", result.failed_first}, {"min_r2", result.min_r2},
+               {"group_by", result.group_by}, {"groups", groups}};
+    if (fitted == 1) details.update({{"slope", only->slope}, {"intercept", only->intercept}, {"r2", only->r2}});
+  }
+  out["details"] = details;
+  return out;
+}
+
+// "3 of 4 claims confirmed (1 not confirmed)": the summary's line, empty without claims.
+std::string claims_count_text(const Report& report) {
+  if (report.claims.empty()) return "";
+  size_t confirmed = 0, refuted = 0, unmeasured = 0;
+  for (const ClaimResult& result : report.claims) {
+    if (result.verdict == "confirmed")
+      ++confirmed;
+    else if (result.verdict == "not confirmed")
+      ++refuted;
+    else
+      ++unmeasured;
+  }
+  std::vector<std::string> rest;
+  if (refuted) rest.push_back(fmt::format("{} not confirmed", refuted));
+  if (unmeasured) rest.push_back(fmt::format("{} not measured", unmeasured));
+  return fmt::format("{} of {} claim{} confirmed{}.", confirmed, report.claims.size(),
+                     report.claims.size() == 1 ? "" : "s", rest.empty() ? "" : " (" + join(rest, ", ") + ")");
+}
+
 // environment.json flattened to "key: value" lines, nested objects with dotted keys.
 void flatten(const json& value, const std::string& prefix, std::vector<std::pair<std::string, std::string>>& out) {
   if (value.is_object()) {
@@ -1241,6 +1665,8 @@ std::vector<std::string> findings(const Report& report, bool html) {
   lines.push_back(fmt::format("{} runs: {} ok, {} failed{}.", report.runs.size() + report.missing.size(),
                               report.runs.size() - report.failed_count(), report.failed_count(),
                               report.missing.empty() ? "" : fmt::format(", {} not run yet", report.missing.size())));
+  if (!report.claims.empty())
+    lines.push_back(claims_count_text(report) + (html ? " See <a href=\"#claims\">Claims</a>." : " See Claims below."));
   std::optional<size_t> best, fastest;
   for (size_t i : report.ok_runs()) {
     auto value = report.runs[i].metric(report.primary);
@@ -1320,6 +1746,18 @@ std::string markdown(const Report& report) {
   out += "## Summary\n\n";
   for (const std::string& line : findings(report, false)) out += "- " + line + "\n";
   out += "\n";
+
+  if (!report.claims.empty()) {
+    out += "## Claims\n\n";
+    out += "The paper's claims (experiment.json \"claims\") checked on the finished runs; see docs/reports.md.\n\n";
+    Table claims;
+    claims.header = {"claim", "verdict", "evidence"};
+    for (const ClaimResult& result : report.claims)
+      claims.rows.push_back({{string_member(result.claim, "text", "(no text)")},
+                             {result.verdict},
+                             {claim_evidence(report, result, Format::markdown)}});
+    markdown_table(out, claims);
+  }
 
   out += "## Results\n\n";
   Table results = results_table(report);
@@ -1406,6 +1844,15 @@ figure.plot { margin: 0; width: 640px; }
 .card .label { color: var(--muted); font-size: 10px; }
 .bar { display: flex; align-items: center; gap: 8px; font-size: 12px; color: var(--muted); margin: 4px 0 12px; }
 .bar img { width: 256px; height: 12px; }
+table.claims td { vertical-align: top; }
+table.claims td.claim { white-space: normal; min-width: 220px; max-width: 380px; }
+table.claims td.evidence { white-space: normal; min-width: 320px; max-width: 760px; }
+table.claims .kind { color: var(--muted); font-size: 11px; }
+table.claims code { font-size: 11.5px; background: #f3f4f6; padding: 0 3px; border-radius: 3px; }
+.badge { display: inline-block; padding: 1px 9px; border-radius: 10px; font-weight: 600; font-size: 12px;
+         color: #fff; white-space: nowrap; }
+.badge.confirmed { background: #1e8e3e; } .badge.refuted { background: #d93025; }
+.badge.unmeasured { background: #9aa0a6; }
 footer { margin-top: 48px; color: var(--muted); font-size: 12px; }
 )CSS";
 
@@ -1446,7 +1893,9 @@ std::string html(const Report& report) {
   out += "<h1>causticbench report: " + html_escape(report.name) + "</h1>\n";
   std::string description = string_member(report.experiment, "description");
   if (!description.empty()) out += "<p class=\"description\">" + html_escape(description) + "</p>\n";
-  out += "<nav><a href=\"#environment\">environment</a><a href=\"#results\">results</a>";
+  out += "<nav><a href=\"#environment\">environment</a>";
+  if (!report.claims.empty()) out += "<a href=\"#claims\">claims</a>";
+  out += "<a href=\"#results\">results</a>";
   if (report.failed_count()) out += "<a href=\"#failed\">failed runs</a>";
   if (member(report.experiment, "paper").is_object()) out += "<a href=\"#paper\">paper</a>";
   if (!report.plots.empty()) out += "<a href=\"#plots\">plots</a>";
@@ -1468,6 +1917,26 @@ std::string html(const Report& report) {
   out += "<ul class=\"findings\">";
   for (const std::string& line : findings(report, true)) out += "<li>" + line + "</li>";
   out += "</ul>\n";
+
+  if (!report.claims.empty()) {
+    out += "<h2 id=\"claims\">Claims</h2>\n";
+    out +=
+        "<div class=\"scroll\"><table class=\"claims\"><thead><tr><th>claim</th><th>verdict</th><th>evidence</th>"
+        "</tr></thead><tbody>\n";
+    for (const ClaimResult& result : report.claims) {
+      const char* badge = result.verdict == "confirmed"       ? "confirmed"
+                          : result.verdict == "not confirmed" ? "refuted"
+                                                              : "unmeasured";
+      out += "<tr><td class=\"claim\">" + html_escape(string_member(result.claim, "text", "(no text)")) +
+             "<div class=\"kind\">" + html_escape(result.kind) + "</div></td><td><span class=\"badge " + badge + "\">" +
+             html_escape(result.verdict) + "</span></td><td class=\"evidence\">" +
+             claim_evidence(report, result, Format::html) + "</td></tr>\n";
+    }
+    out += "</tbody></table></div>\n";
+    out +=
+        "<p class=\"caption\">The paper's claims (experiment.json \"claims\") checked on the finished runs: green "
+        "confirmed, red not confirmed, grey not measured (too few finished runs match).</p>\n";
+  }
 
   out += "<h2 id=\"results\">Results</h2>\n";
   Table results = results_table(report);
@@ -1635,6 +2104,9 @@ std::string results_json(const Report& report) {
                 {"time", "timings.frame_ms_median"},
                 {"overall", overall},
                 {"per_method", fronts}}}};
+  json claims = json::array();
+  for (const ClaimResult& result : report.claims) claims.push_back(claim_json(report, result));
+  out["claims"] = claims;
   return out.dump(2) + "\n";
 }
 
@@ -1688,6 +2160,7 @@ ReportSummary write_report(const std::string& experiment_folder) {
   Report report;
   load(report, experiment_folder);
   compute_fronts(report);
+  evaluate_claims(report);
 
   fs::path images = report.folder / "report";
   ensure_folder(images.string());
@@ -1713,6 +2186,11 @@ ReportSummary write_report(const std::string& experiment_folder) {
   summary.failed = report.failed_count();
   summary.missing = report.missing.size();
   summary.plots = report.plots.size();
+  summary.claims = report.claims.size();
+  for (const ClaimResult& result : report.claims) {
+    if (result.verdict == "confirmed") ++summary.claims_confirmed;
+    if (result.verdict == "not confirmed") ++summary.claims_not_confirmed;
+  }
   write_text_atomically(summary.csv, csv(report));
   write_text_atomically(summary.json, results_json(report));
   write_text_atomically(summary.markdown, markdown(report));

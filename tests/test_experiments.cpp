@@ -151,6 +151,32 @@ TEST(Experiment, RejectsBadInputWithFileAndLine) {
   EXPECT_NE(message.find("did you mean 'psnr'"), std::string::npos) << message;
 }
 
+// Every shipped experiment file validates (scene, methods, knobs, paper block, claims).
+TEST(Experiment, ShippedExperimentsValidate) {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(std::string(CAUSTICBENCH_SCENES) + "/../experiments")) {
+    if (entry.path().extension() != ".yaml") continue;
+    EXPECT_NO_THROW(load_experiment(entry.path().string())) << entry.path();
+    ++count;
+  }
+  EXPECT_GE(count, 7);
+}
+
+TEST(Experiment, ClaimsAreValidated) {
+  ExperimentFolder folder("experiment_claims");
+  std::string good = std::string(kExperiment) + R"(claims:
+  - {text: more photons help, kind: better, metric: relmse, run: photons=2000, than: photons=1000}
+  - {text: linear time, kind: linear, x: photons, y: render_ms, among: method=photon_map}
+)";
+  Experiment experiment = load_experiment(folder.write("good.yaml", good));
+  ASSERT_EQ(experiment.claims.size(), 2u);
+  EXPECT_EQ(experiment.claims[1]["min_r2"].get<double>(), 0.98);
+  std::string message = error_of(folder, replace(good, "metric: relmse", "metric: relmes"));
+  EXPECT_NE(message.find("did you mean 'relmse'"), std::string::npos) << message;
+  message = error_of(folder, replace(good, "kind: linear", "kind: quadratic"));
+  EXPECT_NE(message.find("one of best, better, linear"), std::string::npos) << message;
+}
+
 TEST(Experiment, FilterSelectsByKnobMethodAndLabel) {
   ExperimentFolder folder("experiment_filter");
   Experiment experiment = load_experiment(folder.write("a.yaml", kExperiment));

@@ -66,7 +66,9 @@ TEST(PinholeSampling, RandomAndNeighbourhoodAreAreaUniform) {
     EXPECT_LT(chi_square, 103.4) << static_cast<int>(strategy);
     // The neighbourhood sampling is far more even than random (the paper's point): well below the mean
     // of the chi-square distribution (63).
-    if (strategy == SamplingStrategy::neighborhood) EXPECT_LT(chi_square, 30.0);
+    if (strategy == SamplingStrategy::neighborhood) {
+      EXPECT_LT(chi_square, 30.0);
+    }
   }
   // Mesh sampling: a box, area-uniform over its faces (the 2 x 1 x 1 box has face areas 2, 2, 2, 2, 1, 1).
   Scene box = one_reflector("{type: box, size: [2, 1, 1]}");

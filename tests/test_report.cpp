@@ -1,5 +1,6 @@
 // The report generator on a synthetic results folder: files, CSV values, Markdown tables, the paper
-// block, the Pareto front, and (when Chromium is installed) that the Vega-Lite plots render offline.
+// block, the claims, the Pareto front, and (when Chromium is installed) that the Vega-Lite plots render
+// offline.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -108,6 +109,15 @@ const char* const kFailure = "out of memory: photon buffer exceeded 2 GiB, at 16
 //   photon_map photons=1e5 k=10:        (14 ms, 0.05)                               dominated by (12, 0.02)
 //   pinhole samples=100 / 400:          (8 ms, 0.03) (30 ms, 0.04)                   400 dominated by 100
 //   pinhole samples=1600: failed
+// (render_ms median = 0.75 x frame ms.) Its claims and their verdicts:
+//   0 best relmse among photon_map, expect k=50: 0.005 (k=50) beats 0.05 (k=10)          confirmed
+//   1 best psnr among pinhole, expect samples=400: samples=100 has the higher PSNR       not confirmed
+//   2 better frame_ms, photons=10000 (5 ms) than every pinhole run (best 8 ms)           confirmed
+//   3 better relmse, samples=1600 (failed only) than photon_map                          not measured
+//   4 linear render_ms in photons among photon_map: grouped by k; k=50 has 3 points,
+//     R^2 = 256/259 >= 0.98; k=10 has 1 point and is not fitted                          confirmed
+//   5 linear frame_ms in samples among pinhole: 2 ok points                              not measured
+//   6 linear render_ms in photons among photon_map,k=50 with min_r2 0.99: 256/259 < 0.99 not confirmed
 class ReportTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -177,7 +187,8 @@ class ReportTest : public ::testing::Test {
                                                 {{"method", "photon_map"},
                                                  {"match", {{"photons", 100000}, {"k", 50}}},
                                                  {"values", {{"render_ms", 20}}},
-                                                 {"note", "CPU"}}}}}}});
+                                                 {"note", "CPU"}}}}}},
+                                            {"claims", claims()}});
     write_json(folder / "environment.json", {{"machine", "test-host"},
                                              {"cpu", {{"model", "Synthetic CPU"}, {"cores", 16}}},
                                              {"threads", 16},
@@ -194,47 +205,93 @@ class ReportTest : public ::testing::Test {
     fs::create_directories(reference);
     write_exr(blob(0.0), (reference / "frame_0000.exr").string());
 
-    for (const FakeRun& run : runs) {
-      fs::path run_folder = folder / "runs" / run.key;
-      fs::create_directories(run_folder);
-      json record = {{"key", run.key},     {"method", run.method}, {"label", label(run)},
-                     {"build", run.build}, {"render", run.render}, {"swept", run.swept}};
-      if (run.failed) {
-        record["status"] = "failed";
-        record["error"] = kFailure;
-      } else {
-        double render = run.frame_ms * 0.75;
-        json metrics = {{"relmse", run.relmse},
-                        {"rmse", std::sqrt(run.relmse)},
-                        {"psnr", 20.0 - 10.0 * std::log10(run.relmse)},
-                        {"energy_ratio", 1.0 - run.relmse},
-                        {"nonfinite_pixels", 0}};
-        record.update({{"status", "ok"},
-                       {"error", ""},
-                       {"frames",
-                        {{{"frame", 0},
-                          {"image", "frame_0000.exr"},
-                          {"update_ms", {run.frame_ms * 0.25}},
-                          {"render_ms", {render}},
-                          {"metrics", metrics}}}},
-                       {"prepare_seconds", 0.5},
-                       {"timings",
-                        {{"update_ms_min", run.frame_ms * 0.24},
-                         {"update_ms_median", run.frame_ms * 0.25},
-                         {"render_ms_min", render * 0.99},
-                         {"render_ms_median", render},
-                         {"frame_ms_min", run.frame_ms * 0.99},
-                         {"frame_ms_median", run.frame_ms}}},
-                       {"metrics", metrics},
-                       {"memory_bytes", 4800000},
-                       {"peak_rss_bytes", 123456789},
-                       {"counters", {{"photons_emitted", 12345}}},
-                       {"method_record", json::object()}});
-        write_exr(blob(std::sqrt(run.relmse)), (run_folder / "frame_0000.exr").string());
-      }
-      write_json(run_folder / "record.json", record);
-    }
+    for (const FakeRun& run : runs) write_run(run);
   }
+
+  static json claims() {
+    return json::array(
+        {{{"text", "More photons at k=50 give the least error"},
+          {"kind", "best"},
+          {"metric", "relmse"},
+          {"among", "method=photon_map"},
+          {"expect", "k=50"}},
+         {{"text", "400 samples give the sharpest image"},
+          {"kind", "best"},
+          {"metric", "psnr"},
+          {"among", "method=pinhole"},
+          {"expect", "samples=400"}},
+         {{"text", "10^4 photons are faster than any pinhole run"},
+          {"kind", "better"},
+          {"metric", "frame_ms"},
+          {"run", "method=photon_map,photons=10000"},
+          {"than", "method=pinhole"}},
+         {{"text", "1600 samples beat photon mapping"},
+          {"kind", "better"},
+          {"metric", "relmse"},
+          {"run", "samples=1600"},
+          {"than", "method=photon_map"}},
+         {{"text", "Render time grows linearly with photons"},
+          {"kind", "linear"},
+          {"x", "photons"},
+          {"y", "render_ms"},
+          {"among", "method=photon_map"},
+          {"min_r2", 0.98}},
+         {{"text", "Pinhole time is linear in samples"},
+          {"kind", "linear"},
+          {"x", "samples"},
+          {"y", "frame_ms"},
+          {"among", "method=pinhole"},
+          {"min_r2", 0.98}},
+         {{"text", "Render time is tightly linear in photons"},
+          {"kind", "linear"},
+          {"x", "photons"},
+          {"y", "render_ms"},
+          {"among", "method=photon_map,k=50"},
+          {"min_r2", 0.99}}});
+  }
+
+  // runs/<key>/record.json (and the frame of an ok run), as the experiment runner stores them.
+  void write_run(const FakeRun& run) const {
+    fs::path run_folder = folder / "runs" / run.key;
+    fs::create_directories(run_folder);
+    json record = {{"key", run.key},     {"method", run.method}, {"label", label(run)},
+                   {"build", run.build}, {"render", run.render}, {"swept", run.swept}};
+    if (run.failed) {
+      record["status"] = "failed";
+      record["error"] = kFailure;
+    } else {
+      double render = run.frame_ms * 0.75;
+      json metrics = {{"relmse", run.relmse},
+                      {"rmse", std::sqrt(run.relmse)},
+                      {"psnr", 20.0 - 10.0 * std::log10(run.relmse)},
+                      {"energy_ratio", 1.0 - run.relmse},
+                      {"nonfinite_pixels", 0}};
+      record.update({{"status", "ok"},
+                     {"error", ""},
+                     {"frames",
+                      {{{"frame", 0},
+                        {"image", "frame_0000.exr"},
+                        {"update_ms", {run.frame_ms * 0.25}},
+                        {"render_ms", {render}},
+                        {"metrics", metrics}}}},
+                     {"prepare_seconds", 0.5},
+                     {"timings",
+                      {{"update_ms_min", run.frame_ms * 0.24},
+                       {"update_ms_median", run.frame_ms * 0.25},
+                       {"render_ms_min", render * 0.99},
+                       {"render_ms_median", render},
+                       {"frame_ms_min", run.frame_ms * 0.99},
+                       {"frame_ms_median", run.frame_ms}}},
+                     {"metrics", metrics},
+                     {"memory_bytes", 4800000},
+                     {"peak_rss_bytes", 123456789},
+                     {"counters", {{"photons_emitted", 12345}}},
+                     {"method_record", json::object()}});
+      write_exr(blob(std::sqrt(run.relmse)), (run_folder / "frame_0000.exr").string());
+    }
+    write_json(run_folder / "record.json", record);
+  }
+
   void TearDown() override {
     if (!::testing::Test::HasFailure() && !getenv("CAUSTICBENCH_KEEP_REPORT")) fs::remove_all(root);
   }
@@ -355,6 +412,155 @@ TEST_F(ReportTest, ParetoFrontIsTheExpectedSubset) {
   EXPECT_EQ(front["overall"], json({"pm_1e4", "pin_100", "pm_1e5", "pm_1e6"}));
   EXPECT_EQ(front["per_method"]["photon_map"], json({"pm_1e4", "pm_1e5", "pm_1e6"}));
   EXPECT_EQ(front["per_method"]["pinhole"], json({"pin_100"}));
+}
+
+// R^2 of render_ms (0.75 x frame ms) against photons over the k=50 sweep, by hand: x = 1e4, 1e5, 1e6,
+// y = 3.75, 9, 30; mean x = 370000, mean y = 14.25; Sxx = 5.994e11, Sxy = 1.512e7, Syy = 385.875;
+// R^2 = Sxy^2 / (Sxx Syy) = 2.286144e14 / 2.31293475e14 = 256/259; slope = Sxy / Sxx = 2.5225e-5;
+// intercept = 14.25 - slope x 370000 = 59/12.
+constexpr double kPhotonsR2 = 256.0 / 259.0;
+
+TEST_F(ReportTest, ClaimsAreCheckedOnTheOkRuns) {
+  ReportSummary summary = write_report(folder.string());
+  EXPECT_EQ(summary.claims, 7u);
+  EXPECT_EQ(summary.claims_confirmed, 3u);
+  EXPECT_EQ(summary.claims_not_confirmed, 2u);
+
+  json results = json::parse(read_text(summary.json));
+  const json& claims = results["claims"];
+  ASSERT_EQ(claims.size(), 7u);
+  std::vector<std::string> verdicts;
+  for (const json& claim : claims) verdicts.push_back(claim["verdict"]);
+  EXPECT_EQ(verdicts, (std::vector<std::string>{"confirmed", "not confirmed", "confirmed", "not measured", "confirmed",
+                                                "not measured", "not confirmed"}));
+  EXPECT_EQ(claims[0]["text"], "More photons at k=50 give the least error") << "the claim as stated is kept";
+  EXPECT_EQ(claims[0]["among"], "method=photon_map");
+  // best: the best run and the best run not matching `expect`.
+  EXPECT_EQ(claims[0]["details"]["best"]["key"], "pm_1e6");
+  EXPECT_EQ(claims[0]["details"]["best"]["value"], 0.005);
+  EXPECT_EQ(claims[0]["details"]["best_not_matching_expect"]["key"], "pm_1e5_k10");
+  EXPECT_EQ(claims[0]["details"]["runs"], 4);
+  // PSNR is higher-is-better: samples=100 wins, so the claim for 400 fails; the failed 1600 is not counted.
+  EXPECT_EQ(claims[1]["details"]["best"]["key"], "pin_100");
+  EXPECT_EQ(claims[1]["details"]["best_matching_expect"]["key"], "pin_400");
+  EXPECT_EQ(claims[1]["details"]["runs"], 2);
+  EXPECT_EQ(claims[1]["details"]["failed_runs"], 1);
+  // better: the worst of `run` against the best of `than`.
+  EXPECT_EQ(claims[2]["details"]["worst_of_run"]["value"], 5.0);
+  EXPECT_EQ(claims[2]["details"]["best_of_than"]["key"], "pin_100");
+  EXPECT_EQ(claims[2]["details"]["best_of_than"]["value"], 8.0);
+  EXPECT_EQ(claims[3]["details"]["run_runs"], 0);
+  EXPECT_EQ(claims[3]["details"]["failed_runs"], 1);
+  // linear, grouped by k: the k=50 sweep is fitted, the single k=10 run is not.
+  const json& linear = claims[4]["details"];
+  EXPECT_EQ(linear["group_by"], json({"k"}));
+  ASSERT_EQ(linear["groups"].size(), 2u);
+  EXPECT_EQ(linear["groups"][0]["knobs"], json({{"k", 50}}));
+  EXPECT_EQ(linear["groups"][0]["n"], 3);
+  EXPECT_NEAR(linear["groups"][0]["r2"].get<double>(), kPhotonsR2, 1e-12);
+  EXPECT_NEAR(linear["groups"][0]["slope"].get<double>(), 1.512e7 / 5.994e11, 1e-15);
+  EXPECT_NEAR(linear["groups"][0]["intercept"].get<double>(), 59.0 / 12.0, 1e-9);
+  EXPECT_EQ(linear["groups"][1]["knobs"], json({{"k", 10}}));
+  EXPECT_EQ(linear["groups"][1]["fitted"], false);
+  EXPECT_NEAR(linear["r2"].get<double>(), kPhotonsR2, 1e-12) << "one fitted group: its fit at the top";
+  EXPECT_EQ(claims[5]["details"]["n"], 2);
+  // The same points without grouping, against a stricter threshold.
+  EXPECT_EQ(claims[6]["details"]["group_by"], json::array());
+  EXPECT_NEAR(claims[6]["details"]["r2"].get<double>(), kPhotonsR2, 1e-12);
+  EXPECT_EQ(claims[6]["details"]["n"], 3);
+  EXPECT_NE(claims[6]["evidence"].get<std::string>().find("R\u00b2 0.9884 < 0.99, n = 3"), std::string::npos)
+      << claims[6]["evidence"];
+
+  std::string md = read_text(summary.markdown);
+  // After the summary, before the results; the count in the summary.
+  EXPECT_LT(md.find("## Summary"), md.find("## Claims"));
+  EXPECT_LT(md.find("## Claims"), md.find("## Results"));
+  EXPECT_NE(md.find("- 3 of 7 claims confirmed (2 not confirmed, 2 not measured)."), std::string::npos) << md;
+  EXPECT_NE(md.find("| claim | verdict | evidence |"), std::string::npos);
+  for (const std::string& row : {
+           std::string("| More photons at k=50 give the least error | confirmed | best of 4 runs matching "
+                       "`method=photon_map`: photon_map k=50 photons=1000000 (relmse 0.005), which matches `k=50`; "
+                       "best run not matching it: photon_map k=10 photons=100000 (relmse 0.05). relmse: lower is "
+                       "better. |"),
+           std::string("| 400 samples give the sharpest image | not confirmed | best of 2 runs matching "
+                       "`method=pinhole` (1 failed run not counted): pinhole samples=100 (psnr 35.23), which does "
+                       "not match `samples=400`; best run matching it: pinhole samples=400 (psnr 33.98). psnr: "
+                       "higher is better. |"),
+           std::string("| 10^4 photons are faster than any pinhole run | confirmed | worst of 1 run matching "
+                       "`method=photon_map,photons=10000`: photon_map k=50 photons=10000 (frame_ms 5); best of 2 "
+                       "runs matching `method=pinhole` (1 failed run not counted): pinhole samples=100 (frame_ms "
+                       "8). frame_ms: lower is better. |"),
+           std::string("| 1600 samples beat photon mapping | not measured | 0 runs with a relmse value match "
+                       "`samples=1600` (1 failed run not counted), 4 match `method=photon_map`: the check needs at "
+                       "least 1 on each side. |"),
+           std::string("| Render time grows linearly with photons | confirmed | render_ms against photons over 4 "
+                       "runs matching `method=photon_map`, grouped by k: k=50: render_ms = 2.523e-05 \u00d7 photons "
+                       "+ 4.917, R\u00b2 0.9884 \u2265 0.98, n = 3; k=10: 1 point, not fitted. |"),
+           std::string("| Pinhole time is linear in samples | not measured | frame_ms against samples over 2 runs "
+                       "matching `method=pinhole` (1 failed run not counted): no set has 3 points with different "
+                       "samples values to fit. |"),
+           std::string("| Render time is tightly linear in photons | not confirmed | render_ms against photons over "
+                       "3 runs matching `method=photon_map,k=50`: render_ms = 2.523e-05 \u00d7 photons + 4.917, "
+                       "R\u00b2 0.9884 < 0.99, n = 3. |")})
+    EXPECT_NE(md.find(row), std::string::npos) << row << "\n" << md;
+
+  // HTML: one coloured badge per claim, the section between the summary and the results.
+  std::string page = read_text(summary.html);
+  EXPECT_EQ(count(page, "<span class=\"badge confirmed\">confirmed</span>"), 3u);
+  EXPECT_EQ(count(page, "<span class=\"badge refuted\">not confirmed</span>"), 2u);
+  EXPECT_EQ(count(page, "<span class=\"badge unmeasured\">not measured</span>"), 2u);
+  EXPECT_LT(page.find("class=\"findings\""), page.find("id=\"claims\""));
+  EXPECT_LT(page.find("id=\"claims\""), page.find("id=\"results\""));
+  EXPECT_NE(page.find("<code>method=photon_map,k=50</code>"), std::string::npos);
+}
+
+// Runs that differ in other knobs are fitted per group; every group with 3 points must pass.
+TEST_F(ReportTest, LinearClaimsFitEveryGroupOfTheOtherKnobs) {
+  // Two more k=10 runs: render_ms 30, 10.5, 15 at 1e4, 1e5, 1e6 photons is far from a line.
+  std::vector<FakeRun> more = {{"pm_1e4_k10",
+                                "photon_map",
+                                {{"photons", 10000}, {"seed", 1}},
+                                {{"k", 10}, {"max_radius", 0.1}},
+                                {{"photons", 10000}, {"k", 10}},
+                                0.2,
+                                40.0},
+                               {"pm_1e6_k10",
+                                "photon_map",
+                                {{"photons", 1000000}, {"seed", 1}},
+                                {{"k", 10}, {"max_radius", 0.1}},
+                                {{"photons", 1000000}, {"k", 10}},
+                                0.01,
+                                20.0}};
+  json experiment = json::parse(read_text(folder / "experiment.json"));
+  for (const FakeRun& run : more) {
+    write_run(run);
+    experiment["runs"].push_back(run.key);
+  }
+  experiment["claims"] = json::array({claims()[4]});
+  write_json(folder / "experiment.json", experiment);
+
+  ReportSummary summary = write_report(folder.string());
+  json results = json::parse(read_text(summary.json));
+  ASSERT_EQ(results["claims"].size(), 1u);
+  const json& claim = results["claims"][0];
+  EXPECT_EQ(claim["verdict"], "not confirmed") << claim.dump(2);
+  const json& groups = claim["details"]["groups"];
+  ASSERT_EQ(groups.size(), 2u);
+  EXPECT_NEAR(groups[0]["r2"].get<double>(), kPhotonsR2, 1e-12);
+  EXPECT_EQ(groups[0]["passed"], true);
+  // k=10: x = 1e4, 1e5, 1e6, y = 30, 10.5, 15: Sxy = -360000 x 11.5 - 270000 x (-8) + 630000 x (-3.5)
+  // = -4.185e6, Syy = 132.25 + 64 + 12.25 = 208.5, R^2 = Sxy^2 / (5.994e11 x 208.5).
+  EXPECT_EQ(groups[1]["knobs"], json({{"k", 10}}));
+  EXPECT_EQ(groups[1]["n"], 3);
+  EXPECT_NEAR(groups[1]["r2"].get<double>(), 4.185e6 * 4.185e6 / (5.994e11 * 208.5), 1e-12);
+  EXPECT_EQ(groups[1]["passed"], false);
+  EXPECT_FALSE(claim["details"].contains("r2")) << "two fitted groups: no single fit at the top";
+  std::string md = read_text(summary.markdown);
+  EXPECT_NE(md.find("- 0 of 1 claim confirmed (1 not confirmed)."), std::string::npos) << md;
+  EXPECT_NE(md.find("k=50: render_ms = 2.523e-05 \u00d7 photons + 4.917, R\u00b2 0.9884 \u2265 0.98, n = 3; k=10: "
+                    "render_ms = "),
+            std::string::npos)
+      << md;
 }
 
 TEST(ParetoFront, FollowsTheMetricDirection) {

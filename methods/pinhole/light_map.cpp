@@ -156,7 +156,7 @@ LightCubeMap::LightCubeMap(const DistantLights& lights, int resolution) : resolu
   rasterise(lights, 6 * face_size, direction_of, solid_angle_of, texel_of, texels_);
   // A bilinear lookup whose lower-left texel is (x0, y0) reads x0..x0+1, y0..y0+1: mark the block of
   // (x0, y0) for every non-zero texel at (x, y) with x0 in {x - 1, x} and y0 in {y - 1, y}.
-  blocks_ = (resolution + kBlock - 1) / kBlock;
+  blocks_ = (resolution + kOccupancyBlock - 1) / kOccupancyBlock;
   occupied_.assign(static_cast<size_t>(6) * blocks_ * blocks_, 0);
   for (int face = 0; face < 6; ++face) {
     for (int y = 0; y < resolution; ++y) {
@@ -166,7 +166,7 @@ LightCubeMap::LightCubeMap(const DistantLights& lights, int resolution) : resolu
         for (int y0 : {y - 1, y}) {
           for (int x0 : {x - 1, x}) {
             if (x0 < 0 || y0 < 0) continue;
-            occupied_[(static_cast<size_t>(face) * blocks_ + y0 / kBlock) * blocks_ + x0 / kBlock] = 1;
+            occupied_[(static_cast<size_t>(face) * blocks_ + y0 / kOccupancyBlock) * blocks_ + x0 / kOccupancyBlock] = 1;
           }
         }
       }

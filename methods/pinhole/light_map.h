@@ -56,7 +56,9 @@ class LightCubeMap {
     float fx = std::clamp(s - 0.5f, 0.0f, resolution_ - 1.0f), fy = std::clamp(t - 0.5f, 0.0f, resolution_ - 1.0f);
     int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
     // Most of a compact light's map is black: a coarse occupancy mask skips those fetches exactly.
-    if (!occupied_[(static_cast<size_t>(face) * blocks_ + y0 / kBlock) * blocks_ + x0 / kBlock]) return Color(0.0f);
+    if (!occupied_[(static_cast<size_t>(face) * blocks_ + y0 / kOccupancyBlock) * blocks_ + x0 / kOccupancyBlock]) {
+      return Color(0.0f);
+    }
     int x1 = std::min(x0 + 1, resolution_ - 1), y1 = std::min(y0 + 1, resolution_ - 1);
     float wx = fx - static_cast<float>(x0), wy = fy - static_cast<float>(y0);
     const float* base = texels_.data() + static_cast<size_t>(face) * resolution_ * resolution_ * 3;
@@ -67,6 +69,11 @@ class LightCubeMap {
     return glm::mix(glm::mix(texel(x0, y0), texel(x1, y0), wx), glm::mix(texel(x0, y1), texel(x1, y1), wx), wy);
   }
   int resolution() const { return resolution_; }
+  // The coarse occupancy mask: one byte per kOccupancyBlock^2 texels of a face, (face * blocks + by) *
+  // blocks + bx, non-zero where a bilinear lookup whose first texel lies in that block can be non-zero.
+  static constexpr int kOccupancyBlock = 8;
+  int occupancy_blocks() const { return blocks_; }
+  const std::vector<uint8_t>& occupancy() const { return occupied_; }
   const std::vector<float>& texels() const { return texels_; }  // RGB, face-major
   size_t memory_bytes() const { return texels_.size() * sizeof(float); }
   // Sum of radiance x texel solid angle over the map, per channel: the irradiance a sphere of
@@ -100,7 +107,6 @@ class LightCubeMap {
   static float texel_solid_angle(int face_x, int face_y, int resolution);
 
  private:
-  static constexpr int kBlock = 8;
   int resolution_ = 0;
   int blocks_ = 0;  // per face side
   std::vector<float> texels_;

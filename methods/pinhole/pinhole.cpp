@@ -1,6 +1,6 @@
 #include "methods/pinhole/pinhole.h"
 
-#include <emmintrin.h>
+#include <immintrin.h>
 
 #include <fmt/format.h>
 
@@ -146,55 +146,124 @@ inline Color light_throughput(const Material& material, const Interaction& inter
   return material.mirror_reflectance(cosine);
 }
 
-// The geometric part of the unfiltered reflection for one receiver point and a block of samples:
-// the cube-map face and texel coordinates of the direction towards the light (the arithmetic of
-// LightCubeMap::direction_to_texel) and the weight cos cos A / (d^2 + e), zero where either side faces
-// away. Four samples at a time with SSE2 (every x86-64 has it); GCC 12 does not vectorise the scalar
-// form of this loop by itself. `count` must be a multiple of 4 (the arrays are padded).
-void reflection_block(size_t count, const float* px, const float* py, const float* pz, const float* nx,
-                      const float* ny, const float* nz, const float* two_sided, Vec3 x, Vec3 receiver_normal,
-                      float epsilon, float area, bool attenuation, float resolution, int* face, float* texel_s,
-                      float* texel_t, float* weight, float* cos_sample) {
-  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f), half = _mm_set1_ps(0.5f), two = _mm_set1_ps(2.0f);
-  const __m128 sign_bit = _mm_set1_ps(-0.0f);
-  const __m128 xx = _mm_set1_ps(x.x), xy = _mm_set1_ps(x.y), xz = _mm_set1_ps(x.z);
-  const __m128 rx = _mm_set1_ps(receiver_normal.x), ry = _mm_set1_ps(receiver_normal.y), rz = _mm_set1_ps(receiver_normal.z);
-  const __m128 eps = _mm_set1_ps(epsilon), area4 = _mm_set1_ps(area), half_resolution = _mm_set1_ps(0.5f * resolution);
-  auto select = [](__m128 mask, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b)); };
-  for (size_t i = 0; i < count; i += 4) {
-    __m128 ox = _mm_sub_ps(_mm_loadu_ps(px + i), xx), oy = _mm_sub_ps(_mm_loadu_ps(py + i), xy),
-           oz = _mm_sub_ps(_mm_loadu_ps(pz + i), xz);
-    __m128 distance2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(ox, ox), _mm_mul_ps(oy, oy)), _mm_mul_ps(oz, oz));
-    __m128 inverse = _mm_div_ps(one, _mm_sqrt_ps(distance2));
-    __m128 dx = _mm_mul_ps(ox, inverse), dy = _mm_mul_ps(oy, inverse), dz = _mm_mul_ps(oz, inverse);
-    __m128 cos_receiver = _mm_add_ps(_mm_add_ps(_mm_mul_ps(rx, dx), _mm_mul_ps(ry, dy)), _mm_mul_ps(rz, dz));
-    __m128 snx = _mm_loadu_ps(nx + i), sny = _mm_loadu_ps(ny + i), snz = _mm_loadu_ps(nz + i);
-    __m128 cs = _mm_sub_ps(zero, _mm_add_ps(_mm_add_ps(_mm_mul_ps(snx, dx), _mm_mul_ps(sny, dy)), _mm_mul_ps(snz, dz)));
+// Four- and eight-lane float vectors with the few operations the kernel below needs. SSE2 is part of
+// every x86-64; the AVX2 lanes are used where the processor has them (checked at run time).
+#define CAUSTICBENCH_SIMD_OPS(PREFIX, VEC, ATTRIBUTE)                                                    \
+  ATTRIBUTE static VEC set1(float v) { return PREFIX##_set1_ps(v); }                                     \
+  ATTRIBUTE static VEC load(const float* p) { return PREFIX##_loadu_ps(p); }                             \
+  ATTRIBUTE static void store(float* p, VEC v) { PREFIX##_storeu_ps(p, v); }                             \
+  ATTRIBUTE static VEC add(VEC a, VEC b) { return PREFIX##_add_ps(a, b); }                               \
+  ATTRIBUTE static VEC sub(VEC a, VEC b) { return PREFIX##_sub_ps(a, b); }                               \
+  ATTRIBUTE static VEC mul(VEC a, VEC b) { return PREFIX##_mul_ps(a, b); }                               \
+  ATTRIBUTE static VEC div(VEC a, VEC b) { return PREFIX##_div_ps(a, b); }                               \
+  ATTRIBUTE static VEC sqrt(VEC a) { return PREFIX##_sqrt_ps(a); }                                       \
+  ATTRIBUTE static VEC bit_and(VEC a, VEC b) { return PREFIX##_and_ps(a, b); }                           \
+  ATTRIBUTE static VEC and_not(VEC a, VEC b) { return PREFIX##_andnot_ps(a, b); }                        \
+  ATTRIBUTE static VEC select(VEC mask, VEC a, VEC b) { return PREFIX##_or_ps(PREFIX##_and_ps(mask, a), PREFIX##_andnot_ps(mask, b)); } \
+  /* max and min return the second operand when the first is NaN: clamps turn NaN into a bound. */     \
+  ATTRIBUTE static VEC max(VEC a, VEC b) { return PREFIX##_max_ps(a, b); }                               \
+  ATTRIBUTE static VEC min(VEC a, VEC b) { return PREFIX##_min_ps(a, b); }
+
+struct Sse {
+  using Vec = __m128;
+  static constexpr size_t width = 4;
+  CAUSTICBENCH_SIMD_OPS(_mm, __m128, )
+  static Vec less(Vec a, Vec b) { return _mm_cmplt_ps(a, b); }
+  static Vec greater(Vec a, Vec b) { return _mm_cmpgt_ps(a, b); }
+  static Vec greater_equal(Vec a, Vec b) { return _mm_cmpge_ps(a, b); }
+  static void store_int(int* p, Vec v) { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), _mm_cvttps_epi32(v)); }
+  static Vec truncate(Vec v) { return _mm_cvtepi32_ps(_mm_cvttps_epi32(v)); }
+};
+
+#define CAUSTICBENCH_AVX2 __attribute__((target("avx2")))
+struct Avx2 {
+  using Vec = __m256;
+  static constexpr size_t width = 8;
+  CAUSTICBENCH_SIMD_OPS(_mm256, __m256, CAUSTICBENCH_AVX2)
+  CAUSTICBENCH_AVX2 static Vec less(Vec a, Vec b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
+  CAUSTICBENCH_AVX2 static Vec greater(Vec a, Vec b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
+  CAUSTICBENCH_AVX2 static Vec greater_equal(Vec a, Vec b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
+  CAUSTICBENCH_AVX2 static void store_int(int* p, Vec v) {
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), _mm256_cvttps_epi32(v));
+  }
+  CAUSTICBENCH_AVX2 static Vec truncate(Vec v) { return _mm256_round_ps(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC); }
+};
+
+struct ReflectionBlock {
+  size_t count;  // a multiple of 8 (the arrays are padded)
+  const float *px, *py, *pz, *nx, *ny, *nz, *two_sided;
+  Vec3 x, receiver_normal;
+  float epsilon, area, resolution;
+  float occupancy_blocks;  // LightCubeMap::occupancy_blocks(): blocks per face side
+  bool attenuation;
+  int* face;
+  int* block;  // LightCubeMap::occupancy_index of the bilinear lookup's first texel
+  float *texel_s, *texel_t, *weight, *cos_sample;
+};
+
+// The geometric part of the unfiltered reflection for one receiver point and a block of samples: the
+// cube-map face and texel coordinates of the direction towards the light (the arithmetic of
+// LightCubeMap::direction_to_texel, branch-free) and the weight cos cos A / (d^2 + e), zero where
+// either side faces away. GCC 12 does not vectorise the scalar form of this loop by itself.
+template <typename S>
+__attribute__((always_inline)) inline void reflection_lanes(const ReflectionBlock& b) {
+  using V = typename S::Vec;
+  const V zero = S::set1(0.0f), one = S::set1(1.0f), half = S::set1(0.5f), two = S::set1(2.0f), sign_bit = S::set1(-0.0f);
+  const V xx = S::set1(b.x.x), xy = S::set1(b.x.y), xz = S::set1(b.x.z);
+  const V rx = S::set1(b.receiver_normal.x), ry = S::set1(b.receiver_normal.y), rz = S::set1(b.receiver_normal.z);
+  const V eps = S::set1(b.epsilon), area = S::set1(b.area), half_resolution = S::set1(0.5f * b.resolution);
+  const V last_texel = S::set1(b.resolution - 1.0f), blocks = S::set1(b.occupancy_blocks);
+  const V inverse_block = S::set1(1.0f / static_cast<float>(LightCubeMap::kOccupancyBlock));
+  for (size_t i = 0; i < b.count; i += S::width) {
+    V ox = S::sub(S::load(b.px + i), xx), oy = S::sub(S::load(b.py + i), xy), oz = S::sub(S::load(b.pz + i), xz);
+    V distance2 = S::add(S::add(S::mul(ox, ox), S::mul(oy, oy)), S::mul(oz, oz));
+    V inverse = S::div(one, S::sqrt(distance2));
+    V dx = S::mul(ox, inverse), dy = S::mul(oy, inverse), dz = S::mul(oz, inverse);
+    V cos_receiver = S::add(S::add(S::mul(rx, dx), S::mul(ry, dy)), S::mul(rz, dz));
+    V snx = S::load(b.nx + i), sny = S::load(b.ny + i), snz = S::load(b.nz + i);
+    V cs = S::sub(zero, S::add(S::add(S::mul(snx, dx), S::mul(sny, dy)), S::mul(snz, dz)));
     // Two-sided samples seen from behind: flip the normal (cs becomes -cs; 2 cs n is unchanged).
-    __m128 flip = _mm_and_ps(_mm_cmplt_ps(cs, zero), _mm_cmpgt_ps(_mm_loadu_ps(two_sided + i), half));
-    __m128 twice = _mm_mul_ps(two, cs);
-    cs = select(flip, _mm_sub_ps(zero, cs), cs);
-    __m128 wx = _mm_add_ps(dx, _mm_mul_ps(twice, snx)), wy = _mm_add_ps(dy, _mm_mul_ps(twice, sny)),
-           wz = _mm_add_ps(dz, _mm_mul_ps(twice, snz));
-    __m128 ax = _mm_andnot_ps(sign_bit, wx), ay = _mm_andnot_ps(sign_bit, wy), az = _mm_andnot_ps(sign_bit, wz);
-    __m128 x_major = _mm_and_ps(_mm_cmpge_ps(ax, ay), _mm_cmpge_ps(ax, az));
-    __m128 y_major = _mm_andnot_ps(x_major, _mm_cmpge_ps(ay, az));
-    __m128 major = select(x_major, ax, select(y_major, ay, az));
-    __m128 x_positive = _mm_cmpgt_ps(wx, zero), y_positive = _mm_cmpgt_ps(wy, zero), z_positive = _mm_cmpgt_ps(wz, zero);
-    __m128 minus_wx = _mm_sub_ps(zero, wx), minus_wz = _mm_sub_ps(zero, wz), minus_wy = _mm_sub_ps(zero, wy);
-    __m128 sc = select(x_major, select(x_positive, minus_wz, wz), select(y_major, wx, select(z_positive, wx, minus_wx)));
-    __m128 tc = select(y_major, select(y_positive, wz, minus_wz), minus_wy);
-    __m128 face_value = select(x_major, select(x_positive, zero, one),
-                               select(y_major, select(y_positive, _mm_set1_ps(2.0f), _mm_set1_ps(3.0f)),
-                                      select(z_positive, _mm_set1_ps(4.0f), _mm_set1_ps(5.0f))));
-    __m128 scale = _mm_div_ps(half_resolution, major);
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(face + i), _mm_cvttps_epi32(face_value));
-    _mm_storeu_ps(texel_s + i, _mm_add_ps(_mm_mul_ps(sc, scale), half_resolution));
-    _mm_storeu_ps(texel_t + i, _mm_add_ps(_mm_mul_ps(tc, scale), half_resolution));
-    __m128 geometry = attenuation ? _mm_div_ps(_mm_mul_ps(cs, cos_receiver), _mm_add_ps(distance2, eps)) : one;
-    __m128 facing = _mm_and_ps(_mm_cmpgt_ps(cos_receiver, zero), _mm_cmpgt_ps(cs, zero));
-    _mm_storeu_ps(weight + i, _mm_and_ps(facing, _mm_mul_ps(geometry, area4)));
-    _mm_storeu_ps(cos_sample + i, cs);
+    V flip = S::bit_and(S::less(cs, zero), S::greater(S::load(b.two_sided + i), half));
+    V twice = S::mul(two, cs);
+    cs = S::select(flip, S::sub(zero, cs), cs);
+    V wx = S::add(dx, S::mul(twice, snx)), wy = S::add(dy, S::mul(twice, sny)), wz = S::add(dz, S::mul(twice, snz));
+    V ax = S::and_not(sign_bit, wx), ay = S::and_not(sign_bit, wy), az = S::and_not(sign_bit, wz);
+    V x_major = S::bit_and(S::greater_equal(ax, ay), S::greater_equal(ax, az));
+    V y_major = S::and_not(x_major, S::greater_equal(ay, az));
+    V major = S::select(x_major, ax, S::select(y_major, ay, az));
+    V x_positive = S::greater(wx, zero), y_positive = S::greater(wy, zero), z_positive = S::greater(wz, zero);
+    V minus_wx = S::sub(zero, wx), minus_wy = S::sub(zero, wy), minus_wz = S::sub(zero, wz);
+    V sc = S::select(x_major, S::select(x_positive, minus_wz, wz), S::select(y_major, wx, S::select(z_positive, wx, minus_wx)));
+    V tc = S::select(y_major, S::select(y_positive, wz, minus_wz), minus_wy);
+    V face = S::select(x_major, S::select(x_positive, zero, one),
+                       S::select(y_major, S::select(y_positive, S::set1(2.0f), S::set1(3.0f)),
+                                 S::select(z_positive, S::set1(4.0f), S::set1(5.0f))));
+    V scale = S::div(half_resolution, major);
+    V s_texel = S::add(S::mul(sc, scale), half_resolution), t_texel = S::add(S::mul(tc, scale), half_resolution);
+    S::store_int(b.face + i, face);
+    S::store(b.texel_s + i, s_texel);
+    S::store(b.texel_t + i, t_texel);
+    // The occupancy block of the lookup's first texel, as LightCubeMap::lookup_texel computes it.
+    V x0 = S::truncate(S::min(S::max(S::sub(s_texel, half), zero), last_texel));
+    V y0 = S::truncate(S::min(S::max(S::sub(t_texel, half), zero), last_texel));
+    V block_x = S::truncate(S::mul(x0, inverse_block)), block_y = S::truncate(S::mul(y0, inverse_block));
+    S::store_int(b.block + i, S::add(S::mul(S::add(S::mul(face, blocks), block_y), blocks), block_x));
+    V geometry = b.attenuation ? S::div(S::mul(cs, cos_receiver), S::add(distance2, eps)) : one;
+    V facing = S::bit_and(S::greater(cos_receiver, zero), S::greater(cs, zero));
+    S::store(b.weight + i, S::bit_and(facing, S::mul(geometry, area)));
+    S::store(b.cos_sample + i, cs);
+  }
+}
+
+void reflection_block_sse(const ReflectionBlock& block) { reflection_lanes<Sse>(block); }
+CAUSTICBENCH_AVX2 void reflection_block_avx2(const ReflectionBlock& block) { reflection_lanes<Avx2>(block); }
+
+void reflection_block(const ReflectionBlock& block) {
+  static const bool has_avx2 = __builtin_cpu_supports("avx2");
+  if (has_avx2) {
+    reflection_block_avx2(block);
+  } else {
+    reflection_block_sse(block);
   }
 }
 
@@ -214,9 +283,9 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   const float footprint_radius = static_cast<float>(0.5 * samples_.spacing);
   // Structure of arrays for the hot loop (pixels x samples): positions and normals contiguous.
   const size_t count = samples.size();
-  // Padded to a multiple of 4 for the SSE kernel; padding samples have a zero normal, so they never face.
-  const size_t padded = (count + 3) / 4 * 4;
-  std::vector<float> px(padded, 0.0f), py(padded, 0.0f), pz(padded, 1e30f), nx(padded, 0.0f), ny(padded, 0.0f),
+  // Padded to a multiple of 8 for the vector kernel; padding samples have a zero normal, so they never face.
+  const size_t padded = (count + 7) / 8 * 8;
+  std::vector<float> px(padded, 0.0f), py(padded, 0.0f), pz(padded, 1e6f), nx(padded, 0.0f), ny(padded, 0.0f),
       nz(padded, 0.0f);
   for (size_t i = 0; i < count; ++i) {
     px[i] = samples[i].position.x;
@@ -234,7 +303,8 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
     constexpr size_t kBlock = 256;
     parallel_blocks(gbuffer.pixel_count(), 64, [&](size_t begin, size_t end, size_t) {
       alignas(32) float texel_s[kBlock], texel_t[kBlock], weight[kBlock], cos_sample[kBlock];
-      alignas(32) int face[kBlock];
+      alignas(32) int face[kBlock], block[kBlock];
+      const std::vector<uint8_t>& occupied = cube_map_.occupancy();
       uint16_t indices[kBlock];
       const float resolution = static_cast<float>(cube_map_.resolution());
       for (size_t pixel = begin; pixel < end; ++pixel) {
@@ -242,15 +312,17 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
         Color sum(0.0f);
         for (size_t first = 0; first < count; first += kBlock) {
           size_t n = std::min(kBlock, count - first);
-          reflection_block((n + 3) / 4 * 4, &px[first], &py[first], &pz[first], &nx[first], &ny[first], &nz[first], &two_sided[first],
-                           gbuffer.position[pixel], gbuffer.normal[pixel], epsilon, sample_area, attenuation, resolution,
-                           face, texel_s, texel_t, weight, cos_sample);
-          // Compact the facing samples without a branch (about half face away, at random, which a
-          // branch would mispredict), then look them up.
+          reflection_block(ReflectionBlock{(n + 7) / 8 * 8, &px[first], &py[first], &pz[first], &nx[first], &ny[first],
+                                           &nz[first], &two_sided[first], gbuffer.position[pixel], gbuffer.normal[pixel],
+                                           epsilon, sample_area, resolution,
+                                           static_cast<float>(cube_map_.occupancy_blocks()), attenuation, face, block,
+                                           texel_s, texel_t, weight, cos_sample});
+          // Compact the facing samples that look into a lit part of the map without a branch (about
+          // half face away, at random, which a branch would mispredict), then look them up.
           size_t facing = 0;
           for (size_t j = 0; j < n; ++j) {
             indices[facing] = static_cast<uint16_t>(j);
-            facing += weight[j] > 0.0f ? 1 : 0;
+            facing += (weight[j] > 0.0f) & (occupied[block[j]] != 0);
           }
           for (size_t k = 0; k < facing; ++k) {
             size_t j = indices[k];
