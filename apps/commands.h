@@ -15,6 +15,7 @@ struct RenderOptions {
   int threads = 0;
   std::string resolution;  // "WxH" or empty
   int direct_samples = 16;
+  std::string dump_frame;  // folder for causticbench-gpubench, or empty
 };
 
 int run_render(const RenderOptions& options);
@@ -32,6 +33,7 @@ struct ExperimentOptions {
 
 int run_experiment_command(const ExperimentOptions& options);
 int run_report(const std::string& folder);
+int run_gpu_compare(const std::string& folder);
 int run_list();
 int run_describe(const std::string& method, bool markdown);
 int run_validate(const std::string& file);

@@ -29,6 +29,9 @@ int main(int argc, char** argv) {
   render_command->add_option("-r,--resolution", render.resolution, "override the camera resolution, WIDTHxHEIGHT");
   render_command->add_option("--direct-samples", render.direct_samples, "light samples per pixel for direct.exr")
       ->capture_default_str()->check(CLI::Range(1, 4096));
+  render_command->add_option("--dump-frame", render.dump_frame,
+                             "also write the frame's GPU inputs and this backend's output into DIR, for\n"
+                             "causticbench-gpubench DIR and causticbench gpu-compare DIR (pinhole)");
 
   ExperimentOptions experiment;
   CLI::App* run_command = app.add_subcommand(
@@ -49,6 +52,12 @@ int main(int argc, char** argv) {
   CLI::App* report_command = app.add_subcommand(
       "report", "Write report.html, report.md, results.csv and results.json for RESULTS/<experiment>/ from the stored runs.");
   report_command->add_option("folder", report_folder, "an experiment's results folder")->required();
+
+  std::string compare_folder;
+  CLI::App* compare_command = app.add_subcommand(
+      "gpu-compare", "Compare causticbench-gpubench's output (vulkan_irradiance.bin) with the CPU backend's\n"
+                     "(cpu_irradiance.bin) in a --dump-frame folder; exit 1 when they disagree beyond the tolerance.");
+  compare_command->add_option("folder", compare_folder, "a --dump-frame folder")->required();
 
   CLI::App* list_command = app.add_subcommand("list", "List the methods and their capability matrix.");
   std::string describe_name;
@@ -71,6 +80,7 @@ int main(int argc, char** argv) {
     if (*render_command) return run_render(render);
     if (*run_command) return run_experiment_command(experiment);
     if (*report_command) return run_report(report_folder);
+    if (*compare_command) return run_gpu_compare(compare_folder);
     if (*list_command) return run_list();
     if (*describe_command) return run_describe(describe_name, markdown);
     if (*validate_command) return run_validate(validate_file);

@@ -38,9 +38,11 @@ int run_render(const RenderOptions& options) {
   request.scene = &scene;
   request.method = options.method;
   request.frame = options.frame;
+  request.dump_folder = options.dump_frame;
   for (const std::string& assignment : options.assignments) request.params.set_assignment(assignment, "--set");
   CheckedRequest checked = check_request(request);
   ensure_folder(options.out);
+  if (!options.dump_frame.empty()) ensure_folder(options.dump_frame);
 
   ThreadLimit limit(options.threads);
   fmt::print(stderr, "rendering {} with {} at {}x{}, frame {}\n", options.scene, options.method, scene.camera.width,

@@ -392,7 +392,7 @@ TriangleMesh tessellate(const ShapeDesc& shape, double frame) {
 
 bool intersect_analytic(const ShapeDesc& shape, const glm::dvec3& o, const glm::dvec3& d, double t_min, double t_max,
                         AnalyticHit& hit) {
-  Closest closest{t_max};
+  Closest closest{t_max, AnalyticHit{}, false};
   double t = 0.0;
   switch (shape.kind) {
     case ShapeKind::sphere: {

@@ -129,7 +129,7 @@ RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, Caustic
                        std::map<int, ReferenceFrame>& references) {
   RunOutcome outcome;
   nlohmann::json frames = nlohmann::json::array();
-  std::vector<double> all_update, all_render, all_frame;
+  std::vector<double> all_update, all_render, all_frame, all_gpu;
   std::map<std::string, double> metric_sums;
   std::vector<Image> test_sequence, reference_sequence;
   std::vector<std::vector<uint8_t>> masks;
@@ -148,7 +148,7 @@ RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, Caustic
     // One warm-up, then the timed repetitions.
     method.update(context);
     image = method.render(posed.gbuffer, run.render);
-    std::vector<double> update_ms, render_ms;
+    std::vector<double> update_ms, render_ms, gpu_ms;
     for (int repetition = 0; repetition < experiment.repetitions; ++repetition) {
       auto start = Clock::now();
       method.update(context);
@@ -156,6 +156,12 @@ RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, Caustic
       start = Clock::now();
       image = method.render(posed.gbuffer, run.render);
       render_ms.push_back(seconds_since(start) * 1e3);
+      // GPU backends report their kernel time from timestamp queries.
+      nlohmann::json facts = method.record();
+      if (facts.contains("gpu_render_ms") && facts["gpu_render_ms"].get<double>() > 0.0) {
+        gpu_ms.push_back(facts["gpu_render_ms"].get<double>());
+        all_gpu.push_back(gpu_ms.back());
+      }
       all_update.push_back(update_ms.back());
       all_render.push_back(render_ms.back());
       all_frame.push_back(update_ms.back() + render_ms.back());
@@ -170,6 +176,7 @@ RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, Caustic
     std::string file = ResultPaths::frame_file(frame) + ".exr";
     frames.push_back({{"frame", frame}, {"image", file}, {"update_ms", update_ms}, {"render_ms", render_ms},
                       {"metrics", values.values}});
+    if (!gpu_ms.empty()) frames.back()["gpu_render_ms"] = gpu_ms;
     test_sequence.push_back(image);
     reference_sequence.push_back(reference.caustic);
     masks.push_back(reference.mask);
@@ -204,6 +211,10 @@ RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, Caustic
                     {"counters", counters},
                     {"method_record", method.record()},
                     {"spec", run.spec}};
+  if (!all_gpu.empty()) {
+    outcome.record["timings"]["gpu_render_ms_min"] = minimum(all_gpu);
+    outcome.record["timings"]["gpu_render_ms_median"] = median(all_gpu);
+  }
   return outcome;
 }
 

@@ -48,6 +48,8 @@ struct MethodInfo {
   std::string summary;
   std::vector<ParamSpec> params;
   Capabilities capabilities;
+  // Whether `causticbench render --dump-frame` can write this method's frame for causticbench-gpubench.
+  bool frame_dump = false;
 };
 
 using Counters = std::vector<std::pair<std::string, double>>;
@@ -72,6 +74,10 @@ class CausticMethod {
   virtual Counters counters() const = 0;
   // Method-specific facts for the run record (e.g. the reference's noise floor).
   virtual nlohmann::json record() const { return nlohmann::json::object(); }
+  // Writes the last rendered frame's GPU inputs and this backend's output into `folder` (methods whose
+  // MethodInfo::frame_dump is set).
+  virtual void dump_frame(const GBuffer& gbuffer, const ParamSet& render, const Image& output,
+                          const std::string& folder) const {}
 };
 
 }  // namespace causticbench

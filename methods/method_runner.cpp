@@ -23,6 +23,14 @@ CheckedRequest check_request(const RenderRequest& request) {
                                  request.frame, request.scene->frames - 1, request.scene->frames,
                                  request.scene->source));
   }
+  if (!request.dump_folder.empty() && !info.frame_dump) {
+    std::vector<std::string> able;
+    for (const MethodEntry& method : method_registry()) {
+      if (method.info().frame_dump) able.push_back(method.info().name);
+    }
+    throw InputError(fmt::format("--dump-frame: expected a method that can dump its frame ({}), found '{}'",
+                                 join(able, ", "), info.name));
+  }
   checked.method->create()->check_scene(*request.scene);
   return checked;
 }
@@ -57,6 +65,10 @@ FrameResult run_frame(const RenderRequest& request, const CheckedRequest& checke
   // Masked pixels carry no caustic value, whatever the method wrote there.
   for (size_t pixel = 0; pixel < result.gbuffer.pixel_count(); ++pixel) {
     if (!result.gbuffer.receiver[pixel]) result.caustic.set_rgb(pixel, Color(0.0f));
+  }
+  if (!request.dump_folder.empty()) {
+    method->dump_frame(result.gbuffer, select_phase(checked.params, info.params, ParamPhase::render), result.caustic,
+                       request.dump_folder);
   }
   if (direct) *direct = direct_irradiance(tracer, result.gbuffer, direct_samples, 12345);
   return result;

@@ -23,6 +23,7 @@ struct RenderRequest {
   std::string method;
   ParamDict params;
   int frame = 0;
+  std::string dump_folder;  // --dump-frame: the method writes its GPU inputs and output here
 };
 
 struct CheckedRequest {

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "core/image_statistics.h"
+#include "methods/pinhole/frame_data.h"
 #include "methods/pinhole/light_map.h"
 #include "methods/pinhole/pinhole.h"
 #include "methods/pinhole/reflector_sampling.h"
@@ -260,4 +261,76 @@ TEST(Pinhole, ZeroAreaReflectorIsAClearError) {
   std::string message = causticbench::testing::input_error_message([&] { render(scene, "pinhole", {"samples=10"}); });
   EXPECT_NE(message.find("reflector of zero area"), std::string::npos) << message;
   fs::remove(file);
+}
+
+// The Vulkan backend (lavapipe here) and the CPU backend do the same arithmetic in another order:
+// they agree to float rounding (relMSE < 1e-6, flux within 1e-4), for reflection and for refraction.
+TEST(PinholeVulkan, AgreesWithTheCpuBackend) {
+  Scene mirror = scene_from_yaml(kMirrorSphere);
+  Scene water = scene_from_yaml(R"(
+camera: {type: orthographic, position: [0, -0.2, 0], look_at: [0, -1, 0], up: [0, 0, 1], view_height: 2, resolution: [24, 24]}
+lights: [{type: directional, direction: [0.2, -1, 0.1], irradiance: 1, solid_angle_sr: 0.001}]
+objects:
+  - shape: {type: quad, size: [4, 4]}
+    material: {type: diffuse}
+    transform: {translate: [0, -0.5, 0]}
+  - shape: {type: water, size: [3, 3], resolution: [64, 64], waves: [{amplitude: 0.02, wavelength: 0.7}, {amplitude: 0.01, wavelength: 0.3, direction_degrees: 60}]}
+    material: {type: glass, ior: 1.33}
+)");
+  struct Case {
+    const Scene* scene;
+    std::vector<std::string> knobs;
+  };
+  for (const Case& c : {Case{&mirror, {"samples=3000"}}, Case{&water, {"samples=3000", "interaction=refract"}},
+                        Case{&mirror, {"samples=500", "attenuation=false", "fresnel=false"}}}) {
+    FrameResult cpu = render(*c.scene, "pinhole", c.knobs);
+    std::vector<std::string> vulkan_knobs = c.knobs;
+    vulkan_knobs.push_back("backend=vulkan");
+    FrameResult vulkan = render(*c.scene, "pinhole", vulkan_knobs);
+    double cpu_flux = masked_sum(cpu.caustic, cpu.gbuffer.receiver);
+    ASSERT_GT(cpu_flux, 0.0) << c.knobs[0];
+    EXPECT_LT(relative_mse(vulkan.caustic, cpu.caustic, cpu.gbuffer.receiver), 1e-6) << c.knobs.back();
+    EXPECT_NEAR(masked_sum(vulkan.caustic, cpu.gbuffer.receiver) / cpu_flux, 1.0, 1e-4) << c.knobs.back();
+    EXPECT_FALSE(vulkan.method_record["gpu_device"].get<std::string>().empty());
+  }
+  // Filtering is CPU-only so far: a clear error, not a silent fallback.
+  std::string message = causticbench::testing::input_error_message(
+      [&] { render(mirror, "pinhole", {"samples=100", "backend=vulkan", "filtering=anisotropic"}); });
+  EXPECT_NE(message.find("filtered lookups run on the cpu backend only"), std::string::npos) << message;
+}
+
+// The portable path for GPU machines: causticbench dumps a frame, causticbench-gpubench replays it on
+// the first Vulkan device, causticbench gpu-compare checks it against the CPU backend's output.
+TEST(PinholeVulkan, GpubenchReplaysADumpedFrame) {
+  namespace fs = std::filesystem;
+  fs::path folder = fs::temp_directory_path() / "causticbench_dump_test";
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  std::ofstream(folder / "scene.yaml") << kMirrorSphere;
+  std::string output;
+  std::string dump = (folder / "dump").string();
+  int code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " -q render " + (folder / "scene.yaml").string() +
+                                                    " --method pinhole --set samples=2000 --out " + (folder / "out").string() +
+                                                    " --dump-frame " + dump,
+                                                output);
+  ASSERT_EQ(code, 0) << output;
+  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_GPUBENCH) + " " + dump + " --repetitions 2", output);
+  ASSERT_EQ(code, 0) << output;
+  EXPECT_NE(output.find("evaluations/s"), std::string::npos) << output;
+  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
+  EXPECT_EQ(code, 0) << output;
+  EXPECT_NE(output.find("agree"), std::string::npos) << output;
+  // A corrupted GPU output is caught.
+  std::vector<float> wrong = read_floats(dump + "/vulkan_irradiance.bin");
+  for (float& value : wrong) value *= 1.01f;
+  write_floats(dump + "/vulkan_irradiance.bin", wrong);
+  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
+  EXPECT_EQ(code, 1) << output;
+  // --dump-frame with a method that cannot dump is an input error before any work.
+  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " -q render " + (folder / "scene.yaml").string() +
+                                                " --method photon_map --out " + (folder / "out2").string() + " --dump-frame " + dump,
+                                            output);
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_FALSE(fs::exists(folder / "out2"));
+  fs::remove_all(folder);
 }

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "core/optics.h"
+#include "methods/pinhole/vulkan_pinhole.h"
 #include "core/parallel.h"
 
 namespace causticbench {
@@ -30,6 +31,8 @@ const MethodInfo& PinholeMethod::static_info() {
                           "one mirror reflection, or one refraction (the variant Section 5 names)", build),
         ParamSpec::integer("environment_resolution", 256, 4, 4096, "cube map face size of the light map (paper: 256)", build),
         ParamSpec::integer("seed", 1, 0, 4e9, "seed of the reflector sampling", build),
+        ParamSpec::choice("backend", "cpu", {"cpu", "vulkan"},
+                          "cpu (multithreaded, SIMD) or vulkan (compute shader; lavapipe without a GPU; no filtering yet)", build),
         ParamSpec::real("epsilon", -1.0, -1.0, 1e6,
                         "added to the squared distance against the singularity; -1: the squared sample spacing A/N", render),
         ParamSpec::boolean("attenuation", true, "cosines over squared distance; false reproduces Fig. 5", render),
@@ -47,6 +50,7 @@ const MethodInfo& PinholeMethod::static_info() {
                {"point_light", "approximated as distant from the reflectors' centre, as the paper does"},
                {"occlusion", "no visibility between reflector samples and receivers beyond back-face culling"},
                {"multiple_bounces", "one specular interaction only"}};
+    m.frame_dump = true;
     return m;
   }();
   return info;
@@ -79,6 +83,14 @@ void PinholeMethod::check_scene(const Scene& scene) const {
 void PinholeMethod::prepare(const Scene& scene, const ParamSet& build) {
   build_ = build;
   scene_ = &scene;
+  if (build.text("backend") == "vulkan") {
+    if (build.text("filtering") != "none") {
+      throw InputError("pinhole.filtering: expected none with backend: vulkan (filtered lookups run on the cpu backend only, "
+                       "so far), found '" + build.text("filtering") + "'");
+    }
+    if (!gpu_context_) gpu_context_ = std::make_unique<gpu::Context>();
+    if (!vulkan_) vulkan_ = std::make_unique<VulkanPinhole>(*gpu_context_);
+  }
   if (pinhole_reflectors(scene, build.text("interaction")).empty()) {
     throw InputError(fmt::format("{}: pinhole with interaction '{}' needs at least one {} object", scene.source,
                                  build.text("interaction"), build.text("interaction") == "refract" ? "glass" : "specular"));
@@ -97,6 +109,28 @@ void PinholeMethod::update(const FrameContext& context) {
   if (!samples_.samples.empty()) center /= static_cast<float>(samples_.samples.size());
   DistantLights lights(context.frame, center);
   cube_map_ = LightCubeMap(lights, static_cast<int>(build_.integer("environment_resolution")));
+  // The flat arrays the Vulkan backend and --dump-frame use.
+  frame_data_ = PinholeFrameData{};
+  frame_data_.resolution = cube_map_.resolution();
+  frame_data_.cube_map = cube_map_.texels();
+  std::vector<const Material*> materials;
+  for (size_t i = 0; i < samples_.samples.size(); ++i) {
+    const ReflectorSample& sample = samples_.samples[i];
+    size_t index = std::find(materials.begin(), materials.end(), sample_materials_[i]) - materials.begin();
+    if (index == materials.size()) materials.push_back(sample_materials_[i]);
+    frame_data_.sample_positions.insert(frame_data_.sample_positions.end(),
+                                        {sample.position.x, sample.position.y, sample.position.z, sample.two_sided ? 1.0f : 0.0f});
+    frame_data_.sample_normals.insert(frame_data_.sample_normals.end(),
+                                      {sample.normal.x, sample.normal.y, sample.normal.z, static_cast<float>(index)});
+  }
+  for (const Material* material : materials) {
+    float kind = material->kind == MaterialKind::glass ? 2.0f : (material->conductor ? 1.0f : 0.0f);
+    frame_data_.materials.insert(frame_data_.materials.end(),
+                                 {material->reflectance.r, material->reflectance.g, material->reflectance.b, kind,
+                                  material->eta.r, material->eta.g, material->eta.b, material->ior,
+                                  material->k.r, material->k.g, material->k.b, 0.0f});
+  }
+  if (vulkan_) vulkan_->upload_frame(frame_data_);
   filtered_map_.reset();
   if (build_.text("filtering") != "none") {
     // The denser neighbourhood for the regression: three sample spacings across.
@@ -273,6 +307,16 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   Image result(gbuffer.width, gbuffer.height, 3);
   const std::vector<ReflectorSample>& samples = samples_.samples;
   if (samples.empty()) return result;
+  if (vulkan_) {
+    PinholeFrameData frame = frame_data_;
+    fill_receivers(gbuffer, params, frame);
+    std::vector<float> rgba = vulkan_->render(frame, gpu_render_ms_);
+    for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
+      result.set_rgb(pixel, Color(rgba[4 * pixel], rgba[4 * pixel + 1], rgba[4 * pixel + 2]));
+    }
+    evaluations_ = static_cast<double>(gbuffer.receiver_count()) * static_cast<double>(samples.size());
+    return result;
+  }
   const double epsilon_knob = params.real("epsilon");
   const float epsilon = static_cast<float>(epsilon_knob >= 0.0 ? epsilon_knob : samples_.spacing * samples_.spacing);
   const bool attenuation = params.boolean("attenuation");
@@ -400,8 +444,45 @@ Counters PinholeMethod::counters() const {
           {"sample_evaluations", evaluations_}};
 }
 
+void PinholeMethod::fill_receivers(const GBuffer& gbuffer, const ParamSet& params, PinholeFrameData& frame) const {
+  frame.width = static_cast<uint32_t>(gbuffer.width);
+  frame.height = static_cast<uint32_t>(gbuffer.height);
+  frame.receiver_positions.resize(gbuffer.pixel_count() * 4);
+  frame.receiver_normals.resize(gbuffer.pixel_count() * 4);
+  for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
+    const Vec3& p = gbuffer.position[pixel];
+    const Vec3& n = gbuffer.normal[pixel];
+    float receiver = gbuffer.receiver[pixel] ? 1.0f : 0.0f;
+    float* position = &frame.receiver_positions[4 * pixel];
+    float* normal = &frame.receiver_normals[4 * pixel];
+    position[0] = p.x, position[1] = p.y, position[2] = p.z, position[3] = receiver;
+    normal[0] = n.x, normal[1] = n.y, normal[2] = n.z, normal[3] = 0.0f;
+  }
+  const double epsilon_knob = params.real("epsilon");
+  frame.epsilon = static_cast<float>(epsilon_knob >= 0.0 ? epsilon_knob : samples_.spacing * samples_.spacing);
+  frame.area = samples_.samples.empty() ? 0.0f : samples_.samples.front().area;
+  frame.attenuation = params.boolean("attenuation") ? 1 : 0;
+  frame.fresnel = params.boolean("fresnel") ? 1 : 0;
+  frame.refraction = build_.text("interaction") == "refract" ? 1 : 0;
+}
+
+void PinholeMethod::dump_frame(const GBuffer& gbuffer, const ParamSet& params, const Image& output,
+                               const std::string& folder) const {
+  PinholeFrameData frame = frame_data_;
+  fill_receivers(gbuffer, params, frame);
+  write_frame_data(frame, folder);
+  std::vector<float> rgba(gbuffer.pixel_count() * 4, 0.0f);
+  for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
+    for (int c = 0; c < 3; ++c) rgba[4 * pixel + c] = output.at(pixel, c);
+  }
+  write_floats(folder + "/" + build_.text("backend") + "_irradiance.bin", rgba);
+}
+
 nlohmann::json PinholeMethod::record() const {
-  return {{"samples", samples_.samples.size()},
+  return {{"backend", build_.text("backend")},
+          {"gpu_device", gpu_context_ ? gpu_context_->device_name() : ""},
+          {"gpu_render_ms", gpu_render_ms_},
+          {"samples", samples_.samples.size()},
           {"reflector_area", samples_.total_area},
           {"sample_spacing", samples_.spacing},
           {"cell_or_diameter", samples_.cell_or_diameter}};

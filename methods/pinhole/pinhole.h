@@ -4,7 +4,9 @@
 
 #include <memory>
 
+#include "gpu/vulkan_context.h"
 #include "methods/method.h"
+#include "methods/pinhole/frame_data.h"
 #include "methods/pinhole/light_map.h"
 #include "methods/pinhole/reflector_sampling.h"
 
@@ -23,6 +25,8 @@ class PinholeMethod : public CausticMethod {
   size_t memory_bytes() const override;
   Counters counters() const override;
   nlohmann::json record() const override;
+  void dump_frame(const GBuffer& gbuffer, const ParamSet& render, const Image& output,
+                  const std::string& folder) const override;
 
   // For tests: the samples of the last update.
   const SampleSet& samples() const { return samples_; }
@@ -35,6 +39,13 @@ class PinholeMethod : public CausticMethod {
   LightCubeMap cube_map_;
   std::unique_ptr<FilteredLightMap> filtered_map_;
   double evaluations_ = 0.0;
+  // The per-frame GPU inputs (samples, materials, cube map); receivers are added at render time.
+  PinholeFrameData frame_data_;
+  std::unique_ptr<gpu::Context> gpu_context_;
+  std::unique_ptr<class VulkanPinhole> vulkan_;
+  double gpu_render_ms_ = 0.0;
+
+  void fill_receivers(const GBuffer& gbuffer, const ParamSet& render, PinholeFrameData& frame) const;
 };
 
 // The specular objects the method samples for an interaction ("reflect": mirrors, diffuse+mirror and

@@ -1,0 +1,108 @@
+// A minimal Vulkan compute runtime shared by every GPU backend: device selection (a real GPU first,
+// Mesa's lavapipe otherwise), device-local buffers with staging uploads and read-backs, compute
+// pipelines from SPIR-V compiled by glslc at build time, and timestamp queries. Depends only on the
+// Vulkan loader and the C++ standard library, so that causticbench-gpubench runs on GPU machines
+// that have none of the project's other dependencies.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+namespace causticbench::gpu {
+
+class VulkanError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Context;
+
+// A storage buffer in device memory.
+class Buffer {
+ public:
+  Buffer(Context& context, size_t bytes);
+  ~Buffer();
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+  void upload(const void* data, size_t bytes);
+  void download(void* data, size_t bytes) const;
+  VkBuffer handle() const { return buffer_; }
+  size_t size() const { return bytes_; }
+
+ private:
+  Context& context_;
+  VkBuffer buffer_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  size_t bytes_ = 0;
+};
+
+// A compute pipeline whose bindings 0 .. n-1 are storage buffers, with push constants.
+class ComputePipeline {
+ public:
+  ComputePipeline(Context& context, const uint32_t* spirv, size_t spirv_bytes, uint32_t buffer_count,
+                  uint32_t push_constant_bytes);
+  ~ComputePipeline();
+  ComputePipeline(const ComputePipeline&) = delete;
+  ComputePipeline& operator=(const ComputePipeline&) = delete;
+  // Records, submits and waits for one dispatch; returns the GPU time in milliseconds measured with
+  // timestamp queries (0 when the queue has no timestamps).
+  double dispatch(const std::vector<const Buffer*>& buffers, const void* push_constants, uint32_t groups_x);
+
+ private:
+  Context& context_;
+  uint32_t buffer_count_, push_constant_bytes_;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkQueryPool queries_ = VK_NULL_HANDLE;
+};
+
+class Context {
+ public:
+  // Picks the first discrete GPU, then integrated, then virtual, then CPU (lavapipe) device.
+  Context();
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  const std::string& device_name() const { return device_name_; }
+  bool is_cpu_device() const { return cpu_device_; }
+  VkDevice device() const { return device_; }
+  VkQueue queue() const { return queue_; }
+  VkCommandPool command_pool() const { return command_pool_; }
+  float timestamp_period() const { return timestamp_period_; }
+  bool has_timestamps() const { return timestamps_; }
+  uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags flags) const;
+  // One-shot command buffer: record with `record`, submit, wait.
+  template <typename Record>
+  void submit(Record record) {
+    VkCommandBuffer commands = begin_commands();
+    record(commands);
+    end_and_wait(commands);
+  }
+  VkCommandBuffer begin_commands();
+  void end_and_wait(VkCommandBuffer commands);
+
+ private:
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  VkCommandPool command_pool_ = VK_NULL_HANDLE;
+  VkPhysicalDeviceMemoryProperties memory_{};
+  std::string device_name_;
+  bool cpu_device_ = false;
+  bool timestamps_ = false;
+  float timestamp_period_ = 1.0f;
+};
+
+void check(VkResult result, const char* what);
+
+}  // namespace causticbench::gpu

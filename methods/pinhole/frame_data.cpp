@@ -1,0 +1,82 @@
+#include "methods/pinhole/frame_data.h"
+
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+namespace causticbench {
+
+void write_floats(const std::string& path, const std::vector<float>& values) {
+  std::string temporary = path + ".partial";
+  {
+    std::ofstream stream(temporary, std::ios::binary | std::ios::trunc);
+    if (!stream) throw std::runtime_error(path + ": cannot write");
+    stream.write(reinterpret_cast<const char*>(values.data()), static_cast<std::streamsize>(values.size() * sizeof(float)));
+    if (!stream) throw std::runtime_error(path + ": write failed");
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) throw std::runtime_error(path + ": cannot rename");
+}
+
+std::vector<float> read_floats(const std::string& path) {
+  std::ifstream stream(path, std::ios::binary | std::ios::ate);
+  if (!stream) throw std::runtime_error(path + ": cannot open");
+  std::streamsize bytes = stream.tellg();
+  if (bytes % static_cast<std::streamsize>(sizeof(float)) != 0) throw std::runtime_error(path + ": not a float32 array");
+  std::vector<float> values(static_cast<size_t>(bytes) / sizeof(float));
+  stream.seekg(0);
+  stream.read(reinterpret_cast<char*>(values.data()), bytes);
+  return values;
+}
+
+void write_frame_data(const PinholeFrameData& frame, const std::string& folder) {
+  write_floats(folder + "/receiver_positions.bin", frame.receiver_positions);
+  write_floats(folder + "/receiver_normals.bin", frame.receiver_normals);
+  write_floats(folder + "/sample_positions.bin", frame.sample_positions);
+  write_floats(folder + "/sample_normals.bin", frame.sample_normals);
+  write_floats(folder + "/materials.bin", frame.materials);
+  write_floats(folder + "/cube_map.bin", frame.cube_map);
+  std::ostringstream text;
+  text.precision(9);
+  text << "width " << frame.width << "\nheight " << frame.height << "\nresolution " << frame.resolution << "\nepsilon "
+       << frame.epsilon << "\narea " << frame.area << "\nattenuation " << frame.attenuation << "\nfresnel "
+       << frame.fresnel << "\nrefraction " << frame.refraction << "\n";
+  std::ofstream(folder + "/frame.txt") << text.str();
+}
+
+PinholeFrameData read_frame_data(const std::string& folder) {
+  PinholeFrameData frame;
+  std::ifstream stream(folder + "/frame.txt");
+  if (!stream) throw std::runtime_error(folder + "/frame.txt: cannot open (not a --dump-frame folder?)");
+  std::map<std::string, double> values;
+  std::string name;
+  double value;
+  while (stream >> name >> value) values[name] = value;
+  for (const char* required : {"width", "height", "resolution", "epsilon", "area", "attenuation", "fresnel", "refraction"}) {
+    if (!values.count(required)) throw std::runtime_error(folder + "/frame.txt: missing '" + required + "'");
+  }
+  frame.width = static_cast<uint32_t>(values["width"]);
+  frame.height = static_cast<uint32_t>(values["height"]);
+  frame.resolution = static_cast<int32_t>(values["resolution"]);
+  frame.epsilon = static_cast<float>(values["epsilon"]);
+  frame.area = static_cast<float>(values["area"]);
+  frame.attenuation = static_cast<uint32_t>(values["attenuation"]);
+  frame.fresnel = static_cast<uint32_t>(values["fresnel"]);
+  frame.refraction = static_cast<uint32_t>(values["refraction"]);
+  frame.receiver_positions = read_floats(folder + "/receiver_positions.bin");
+  frame.receiver_normals = read_floats(folder + "/receiver_normals.bin");
+  frame.sample_positions = read_floats(folder + "/sample_positions.bin");
+  frame.sample_normals = read_floats(folder + "/sample_normals.bin");
+  frame.materials = read_floats(folder + "/materials.bin");
+  frame.cube_map = read_floats(folder + "/cube_map.bin");
+  if (frame.receiver_positions.size() != 4ull * frame.pixel_count() || frame.receiver_normals.size() != 4ull * frame.pixel_count()) {
+    throw std::runtime_error(folder + ": receiver arrays do not match width x height");
+  }
+  if (frame.cube_map.size() != 18ull * frame.resolution * frame.resolution) {
+    throw std::runtime_error(folder + "/cube_map.bin: does not match the resolution");
+  }
+  return frame;
+}
+
+}  // namespace causticbench

@@ -1,0 +1,137 @@
+#version 450
+// pinhole (Wand & Strasser 2003) on Vulkan: one invocation per receiver pixel sums the light that every
+// reflector sample projects onto it. The same arithmetic as the CPU backend (methods/pinhole/pinhole.cpp,
+// LightCubeMap::lookup_texel), so that both agree to float rounding.
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 0) readonly buffer ReceiverPositions { vec4 receiver_position[]; };
+layout(std430, binding = 1) readonly buffer ReceiverNormals { vec4 receiver_normal[]; };
+layout(std430, binding = 2) readonly buffer SamplePositions { vec4 sample_position[]; };
+layout(std430, binding = 3) readonly buffer SampleNormals { vec4 sample_normal[]; };
+layout(std430, binding = 4) readonly buffer Materials { vec4 material[]; };
+layout(std430, binding = 5) readonly buffer CubeMap { float texel[]; };
+layout(std430, binding = 6) writeonly buffer Irradiance { vec4 irradiance[]; };
+
+layout(push_constant) uniform Parameters {
+  uint pixel_count;
+  uint sample_count;
+  int resolution;
+  float epsilon;
+  float area;
+  uint attenuation;
+  uint fresnel;
+  uint refraction;
+} p;
+
+float fresnel_dielectric(float cos_incident, float eta) {
+  cos_incident = clamp(cos_incident, 0.0, 1.0);
+  float sin2 = (1.0 - cos_incident * cos_incident) / (eta * eta);
+  if (sin2 >= 1.0) return 1.0;
+  float cos_t = sqrt(1.0 - sin2);
+  float parallel = (eta * cos_incident - cos_t) / (eta * cos_incident + cos_t);
+  float perpendicular = (cos_incident - eta * cos_t) / (cos_incident + eta * cos_t);
+  return 0.5 * (parallel * parallel + perpendicular * perpendicular);
+}
+
+float fresnel_conductor(float cos_i, float eta, float k) {
+  cos_i = clamp(cos_i, 0.0, 1.0);
+  float cos2 = cos_i * cos_i, sin2 = 1.0 - cos2, eta2 = eta * eta, k2 = k * k;
+  float t0 = eta2 - k2 - sin2;
+  float a2plusb2 = sqrt(t0 * t0 + 4.0 * eta2 * k2);
+  float t1 = a2plusb2 + cos2;
+  float a = sqrt(max(0.0, 0.5 * (a2plusb2 + t0)));
+  float t2 = 2.0 * cos_i * a;
+  float rs = (t1 - t2) / (t1 + t2);
+  float t3 = cos2 * a2plusb2 + sin2 * sin2;
+  float t4 = t2 * sin2;
+  float rp = rs * (t3 - t4) / (t3 + t4);
+  return 0.5 * (rp + rs);
+}
+
+vec3 fetch(int face, int x, int y) {
+  int index = ((face * p.resolution + y) * p.resolution + x) * 3;
+  return vec3(texel[index], texel[index + 1], texel[index + 2]);
+}
+
+vec3 cube_lookup(vec3 d) {
+  vec3 a = abs(d);
+  float major, sc, tc;
+  int face;
+  if (a.x >= a.y && a.x >= a.z) {
+    face = d.x > 0.0 ? 0 : 1; major = a.x; sc = d.x > 0.0 ? -d.z : d.z; tc = -d.y;
+  } else if (a.y >= a.z) {
+    face = d.y > 0.0 ? 2 : 3; major = a.y; sc = d.x; tc = d.y > 0.0 ? d.z : -d.z;
+  } else {
+    face = d.z > 0.0 ? 4 : 5; major = a.z; sc = d.z > 0.0 ? d.x : -d.x; tc = -d.y;
+  }
+  float resolution = float(p.resolution);
+  float scale = 0.5 * resolution / major;
+  float s = sc * scale + 0.5 * resolution, t = tc * scale + 0.5 * resolution;
+  float fx = clamp(s - 0.5, 0.0, resolution - 1.0), fy = clamp(t - 0.5, 0.0, resolution - 1.0);
+  int x0 = int(fx), y0 = int(fy);
+  int x1 = min(x0 + 1, p.resolution - 1), y1 = min(y0 + 1, p.resolution - 1);
+  float wx = fx - float(x0), wy = fy - float(y0);
+  return mix(mix(fetch(face, x0, y0), fetch(face, x1, y0), wx), mix(fetch(face, x0, y1), fetch(face, x1, y1), wx), wy);
+}
+
+bool refract_direction(vec3 d, vec3 n, float eta, out vec3 transmitted) {
+  float cos_incident = -dot(d, n);
+  float sin2 = (1.0 - cos_incident * cos_incident) / (eta * eta);
+  if (sin2 >= 1.0) return false;
+  float cos_t = sqrt(1.0 - sin2);
+  transmitted = normalize(d / eta + (cos_incident / eta - cos_t) * n);
+  return true;
+}
+
+void main() {
+  uint pixel = gl_GlobalInvocationID.x;
+  if (pixel >= p.pixel_count) return;
+  vec4 receiver = receiver_position[pixel];
+  if (receiver.w == 0.0) {
+    irradiance[pixel] = vec4(0.0);
+    return;
+  }
+  vec3 x = receiver.xyz, receiver_n = receiver_normal[pixel].xyz;
+  vec3 sum = vec3(0.0);
+  for (uint i = 0u; i < p.sample_count; ++i) {
+    vec4 position = sample_position[i];
+    vec4 normal_and_material = sample_normal[i];
+    vec3 offset = position.xyz - x;
+    float distance2 = dot(offset, offset);
+    if (dot(receiver_n, offset) <= 0.0) continue;
+    vec3 direction = offset * (1.0 / sqrt(distance2));
+    float cos_receiver = dot(receiver_n, direction);
+    vec3 n = normal_and_material.xyz;
+    float cos_sample = p.refraction != 0u ? dot(n, direction) : -dot(n, direction);
+    if (cos_sample <= 0.0) {
+      if (position.w < 0.5) continue;
+      n = -n;
+      cos_sample = -cos_sample;
+    }
+    int m = int(normal_and_material.w) * 3;
+    vec4 m0 = material[m], m1 = material[m + 1], m2 = material[m + 2];
+    vec3 to_light;
+    if (p.refraction == 0u) {
+      to_light = direction - 2.0 * dot(direction, n) * n;
+    } else if (!refract_direction(direction, -n, 1.0 / m1.w, to_light)) {
+      continue;
+    }
+    vec3 radiance = cube_lookup(to_light);
+    if (radiance.r + radiance.g + radiance.b <= 0.0) continue;
+    float cosine = p.fresnel != 0u ? cos_sample : 1.0;
+    vec3 throughput;
+    if (p.refraction != 0u) {
+      throughput = vec3((1.0 - fresnel_dielectric(cosine, 1.0 / m1.w)) * m1.w * m1.w);
+    } else if (m0.w == 2.0) {
+      throughput = vec3(fresnel_dielectric(cosine, m1.w));
+    } else if (m0.w == 1.0) {
+      throughput = m0.rgb * vec3(fresnel_conductor(cosine, m1.r, m2.r), fresnel_conductor(cosine, m1.g, m2.g),
+                                 fresnel_conductor(cosine, m1.b, m2.b));
+    } else {
+      throughput = m0.rgb;
+    }
+    float geometry = p.attenuation != 0u ? cos_sample * cos_receiver / (distance2 + p.epsilon) : 1.0;
+    sum += radiance * throughput * (geometry * p.area);
+  }
+  irradiance[pixel] = vec4(sum, 0.0);
+}

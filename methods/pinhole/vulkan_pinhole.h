@@ -1,0 +1,31 @@
+// The pinhole method's Vulkan backend: uploads the reflector samples, materials and light cube map
+// once per frame and evaluates every receiver pixel in a compute shader (pinhole.comp). Depends only
+// on gpu/ and the standard library.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "gpu/vulkan_context.h"
+#include "methods/pinhole/frame_data.h"
+
+namespace causticbench {
+
+class VulkanPinhole {
+ public:
+  explicit VulkanPinhole(gpu::Context& context);
+  ~VulkanPinhole();
+  // Uploads the per-frame data (samples, materials, cube map) of `frame`.
+  void upload_frame(const PinholeFrameData& frame);
+  // Uploads the receivers of `frame`, dispatches, and returns RGBA irradiance per pixel; gpu_ms gets the
+  // kernel's duration from timestamp queries.
+  std::vector<float> render(const PinholeFrameData& frame, double& gpu_ms);
+
+ private:
+  gpu::Context& context_;
+  std::unique_ptr<gpu::ComputePipeline> pipeline_;
+  std::unique_ptr<gpu::Buffer> sample_positions_, sample_normals_, materials_, cube_map_;
+  std::unique_ptr<gpu::Buffer> receiver_positions_, receiver_normals_, output_;
+};
+
+}  // namespace causticbench
