@@ -48,6 +48,18 @@ DistantLights::DistantLights(const SceneFrame& frame, const Vec3& center) {
   }
 }
 
+bool DistantLights::operator==(const DistantLights& other) const {
+  if (sources_.size() != other.sources_.size()) return false;
+  for (size_t i = 0; i < sources_.size(); ++i) {
+    const Source &a = sources_[i], &b = other.sources_[i];
+    if (a.kind != b.kind || a.direction_to_light != b.direction_to_light || a.cos_cone != b.cos_cone || a.sigma != b.sigma ||
+        a.irradiance != b.irradiance || a.solid_angle != b.solid_angle || a.environment != b.environment) {
+      return false;
+    }
+  }
+  return true;
+}
+
 Color DistantLights::radiance(const Source& source, const Vec3& direction) const {
   switch (source.kind) {
     case LightKind::directional:

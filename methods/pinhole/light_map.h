@@ -33,6 +33,8 @@ class DistantLights {
     const EnvironmentMap* environment = nullptr;
   };
   const std::vector<Source>& sources() const { return sources_; }
+  // Equal when every source is the same (so a light map built from one serves the other).
+  bool operator==(const DistantLights& other) const;
   Color radiance(const Source& source, const Vec3& direction) const;
 
  private:

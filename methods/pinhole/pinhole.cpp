@@ -108,7 +108,13 @@ void PinholeMethod::update(const FrameContext& context) {
   for (const ReflectorSample& sample : samples_.samples) center += sample.position;
   if (!samples_.samples.empty()) center /= static_cast<float>(samples_.samples.size());
   DistantLights lights(context.frame, center);
-  cube_map_ = LightCubeMap(lights, static_cast<int>(build_.integer("environment_resolution")));
+  // The map depends only on the lights as seen from the reflectors: rebuilt when they change (a moving
+  // light or reflector), reused otherwise, as a renderer would keep a static environment map.
+  bool lights_changed = !cube_map_lights_ || !(*cube_map_lights_ == lights);
+  if (lights_changed) {
+    cube_map_ = LightCubeMap(lights, static_cast<int>(build_.integer("environment_resolution")));
+    cube_map_lights_ = std::make_unique<DistantLights>(lights);
+  }
   // The flat arrays the Vulkan backend and --dump-frame use.
   frame_data_ = PinholeFrameData{};
   frame_data_.resolution = cube_map_.resolution();
@@ -131,11 +137,12 @@ void PinholeMethod::update(const FrameContext& context) {
                                   material->k.r, material->k.g, material->k.b, 0.0f});
   }
   if (vulkan_) vulkan_->upload_frame(frame_data_);
-  filtered_map_.reset();
   if (build_.text("filtering") != "none") {
     // The denser neighbourhood for the regression: three sample spacings across.
     estimate_differentials(samples_, 1.5 * samples_.spacing);
-    filtered_map_ = std::make_unique<FilteredLightMap>(lights, static_cast<int>(build_.integer("environment_resolution")) * 2);
+    if (lights_changed || !filtered_map_) {
+      filtered_map_ = std::make_unique<FilteredLightMap>(lights, static_cast<int>(build_.integer("environment_resolution")) * 2);
+    }
   } else {
     samples_.dense.clear();
     samples_.dense.shrink_to_fit();

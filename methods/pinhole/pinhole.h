@@ -37,6 +37,7 @@ class PinholeMethod : public CausticMethod {
   SampleSet samples_;
   std::vector<const Material*> sample_materials_;
   LightCubeMap cube_map_;
+  std::unique_ptr<DistantLights> cube_map_lights_;  // the lights cube_map_ was built from
   std::unique_ptr<FilteredLightMap> filtered_map_;
   double evaluations_ = 0.0;
   // The per-frame GPU inputs (samples, materials, cube map); receivers are added at render time.
