@@ -1,5 +1,6 @@
 #include "gpu/vulkan_context.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace causticbench::gpu {
@@ -53,9 +54,16 @@ Context::Context() {
   queue_info.queueFamilyIndex = family;
   queue_info.queueCount = 1;
   queue_info.pQueuePriorities = &priority;
+  VkPhysicalDeviceFeatures supported{}, enabled{};
+  vkGetPhysicalDeviceFeatures(physical_, &supported);
+  if (supported.samplerAnisotropy) {
+    enabled.samplerAnisotropy = VK_TRUE;
+    max_anisotropy_ = properties.limits.maxSamplerAnisotropy;
+  }
   VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   device_info.queueCreateInfoCount = 1;
   device_info.pQueueCreateInfos = &queue_info;
+  device_info.pEnabledFeatures = &enabled;
   check(vkCreateDevice(physical_, &device_info, nullptr, &device_), "vkCreateDevice");
   vkGetDeviceQueue(device_, family, 0, &queue_);
   VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -185,16 +193,108 @@ void Buffer::download(void* data, size_t bytes) const {
   std::memcpy(data, staging.mapped, bytes);
 }
 
-ComputePipeline::ComputePipeline(Context& context, const uint32_t* spirv, size_t spirv_bytes, uint32_t buffer_count,
-                                 uint32_t push_constant_bytes)
-    : context_(context), buffer_count_(buffer_count), push_constant_bytes_(push_constant_bytes) {
+CubeTexture::CubeTexture(Context& context, int size, const std::vector<std::vector<float>>& levels, bool anisotropic)
+    : context_(context) {
   VkDevice device = context.device();
-  std::vector<VkDescriptorSetLayoutBinding> bindings(buffer_count);
-  for (uint32_t i = 0; i < buffer_count; ++i) {
-    bindings[i] = VkDescriptorSetLayoutBinding{i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+  const VkFormat format = VK_FORMAT_R32G32B32A32_SFLOAT;
+  VkFormatProperties format_properties;
+  vkGetPhysicalDeviceFormatProperties(context.physical_device(), format, &format_properties);
+  if (!(format_properties.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT)) {
+    throw VulkanError("Vulkan: the device cannot filter RGBA32F images linearly");
+  }
+  uint32_t level_count = static_cast<uint32_t>(levels.size());
+  VkImageCreateInfo image_info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  image_info.flags = VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
+  image_info.imageType = VK_IMAGE_TYPE_2D;
+  image_info.format = format;
+  image_info.extent = {static_cast<uint32_t>(size), static_cast<uint32_t>(size), 1};
+  image_info.mipLevels = level_count;
+  image_info.arrayLayers = 6;
+  image_info.samples = VK_SAMPLE_COUNT_1_BIT;
+  image_info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  image_info.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  image_info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  check(vkCreateImage(device, &image_info, nullptr, &image_), "vkCreateImage");
+  VkMemoryRequirements requirements;
+  vkGetImageMemoryRequirements(device, image_, &requirements);
+  VkMemoryAllocateInfo memory_info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  memory_info.allocationSize = requirements.size;
+  memory_info.memoryTypeIndex = context.memory_type(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  check(vkAllocateMemory(device, &memory_info, nullptr, &memory_), "vkAllocateMemory");
+  check(vkBindImageMemory(device, image_, memory_, 0), "vkBindImageMemory");
+
+  // All levels through one staging buffer, one copy region per level (6 layers each).
+  size_t total = 0;
+  for (const auto& level : levels) total += level.size() * sizeof(float);
+  Staging staging(context, total);
+  std::vector<VkBufferImageCopy> regions;
+  size_t offset = 0;
+  for (uint32_t level = 0; level < level_count; ++level) {
+    std::memcpy(static_cast<char*>(staging.mapped) + offset, levels[level].data(), levels[level].size() * sizeof(float));
+    uint32_t extent = std::max(1u, static_cast<uint32_t>(size) >> level);
+    VkBufferImageCopy region{};
+    region.bufferOffset = offset;
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level, 0, 6};
+    region.imageExtent = {extent, extent, 1};
+    regions.push_back(region);
+    offset += levels[level].size() * sizeof(float);
+  }
+  context.submit([&](VkCommandBuffer commands) {
+    VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.image = image_;
+    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, level_count, 0, 6};
+    barrier.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    barrier.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    barrier.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
+                         nullptr, 1, &barrier);
+    vkCmdCopyBufferToImage(commands, staging.allocation.buffer, image_, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                           static_cast<uint32_t>(regions.size()), regions.data());
+    barrier.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    barrier.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+    vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr, 0,
+                         nullptr, 1, &barrier);
+  });
+  VkImageViewCreateInfo view_info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  view_info.image = image_;
+  view_info.viewType = VK_IMAGE_VIEW_TYPE_CUBE;
+  view_info.format = format;
+  view_info.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, level_count, 0, 6};
+  check(vkCreateImageView(device, &view_info, nullptr, &view_), "vkCreateImageView");
+  VkSamplerCreateInfo sampler_info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  sampler_info.magFilter = sampler_info.minFilter = VK_FILTER_LINEAR;
+  sampler_info.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
+  sampler_info.addressModeU = sampler_info.addressModeV = sampler_info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  sampler_info.maxLod = static_cast<float>(level_count);
+  if (anisotropic && context.max_anisotropy() > 1.0f) {
+    sampler_info.anisotropyEnable = VK_TRUE;
+    max_anisotropy_ = sampler_info.maxAnisotropy = std::min(16.0f, context.max_anisotropy());
+  }
+  check(vkCreateSampler(device, &sampler_info, nullptr, &sampler_), "vkCreateSampler");
+}
+
+CubeTexture::~CubeTexture() {
+  VkDevice device = context_.device();
+  vkDestroySampler(device, sampler_, nullptr);
+  vkDestroyImageView(device, view_, nullptr);
+  vkDestroyImage(device, image_, nullptr);
+  vkFreeMemory(device, memory_, nullptr);
+}
+
+ComputePipeline::ComputePipeline(Context& context, const uint32_t* spirv, size_t spirv_bytes, uint32_t buffer_count,
+                                 uint32_t push_constant_bytes, uint32_t image_count)
+    : context_(context), buffer_count_(buffer_count), push_constant_bytes_(push_constant_bytes), image_count_(image_count) {
+  VkDevice device = context.device();
+  std::vector<VkDescriptorSetLayoutBinding> bindings(buffer_count + image_count);
+  for (uint32_t i = 0; i < buffer_count + image_count; ++i) {
+    VkDescriptorType type = i < buffer_count ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    bindings[i] = VkDescriptorSetLayoutBinding{i, type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
   }
   VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  set_info.bindingCount = buffer_count;
+  set_info.bindingCount = buffer_count + image_count;
   set_info.pBindings = bindings.data();
   check(vkCreateDescriptorSetLayout(device, &set_info, nullptr, &set_layout_), "vkCreateDescriptorSetLayout");
   VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_bytes};
@@ -218,12 +318,13 @@ ComputePipeline::ComputePipeline(Context& context, const uint32_t* spirv, size_t
   VkResult result = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &pipeline_);
   vkDestroyShaderModule(device, module, nullptr);
   check(result, "vkCreateComputePipelines");
-  VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffer_count};
+  VkDescriptorPoolSize pool_sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffer_count},
+                                        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, std::max(1u, image_count)}};
   VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   pool_info.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
   pool_info.maxSets = 1;
-  pool_info.poolSizeCount = 1;
-  pool_info.pPoolSizes = &pool_size;
+  pool_info.poolSizeCount = 2;
+  pool_info.pPoolSizes = pool_sizes;
   check(vkCreateDescriptorPool(device, &pool_info, nullptr, &pool_), "vkCreateDescriptorPool");
   if (context.has_timestamps()) {
     VkQueryPoolCreateInfo query_info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
@@ -242,8 +343,11 @@ ComputePipeline::~ComputePipeline() {
   vkDestroyDescriptorSetLayout(device, set_layout_, nullptr);
 }
 
-double ComputePipeline::dispatch(const std::vector<const Buffer*>& buffers, const void* push_constants, uint32_t groups_x) {
-  if (buffers.size() != buffer_count_) throw VulkanError("Vulkan: wrong number of buffers for the pipeline");
+double ComputePipeline::dispatch(const std::vector<const Buffer*>& buffers, const void* push_constants, uint32_t groups_x,
+                                 const std::vector<const CubeTexture*>& images) {
+  if (buffers.size() != buffer_count_ || images.size() != image_count_) {
+    throw VulkanError("Vulkan: wrong number of buffers or images for the pipeline");
+  }
   VkDevice device = context_.device();
   VkDescriptorSetAllocateInfo allocate{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
   allocate.descriptorPool = pool_;
@@ -252,17 +356,25 @@ double ComputePipeline::dispatch(const std::vector<const Buffer*>& buffers, cons
   VkDescriptorSet set;
   check(vkAllocateDescriptorSets(device, &allocate, &set), "vkAllocateDescriptorSets");
   std::vector<VkDescriptorBufferInfo> infos(buffer_count_);
-  std::vector<VkWriteDescriptorSet> writes(buffer_count_);
-  for (uint32_t i = 0; i < buffer_count_; ++i) {
-    infos[i] = VkDescriptorBufferInfo{buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+  std::vector<VkDescriptorImageInfo> image_infos(image_count_);
+  std::vector<VkWriteDescriptorSet> writes(buffer_count_ + image_count_);
+  for (uint32_t i = 0; i < buffer_count_ + image_count_; ++i) {
     writes[i] = VkWriteDescriptorSet{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     writes[i].dstSet = set;
     writes[i].dstBinding = i;
     writes[i].descriptorCount = 1;
-    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    writes[i].pBufferInfo = &infos[i];
+    if (i < buffer_count_) {
+      infos[i] = VkDescriptorBufferInfo{buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      writes[i].pBufferInfo = &infos[i];
+    } else {
+      const CubeTexture* image = images[i - buffer_count_];
+      image_infos[i - buffer_count_] = VkDescriptorImageInfo{image->sampler(), image->view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+      writes[i].pImageInfo = &image_infos[i - buffer_count_];
+    }
   }
-  vkUpdateDescriptorSets(device, buffer_count_, writes.data(), 0, nullptr);
+  vkUpdateDescriptorSets(device, buffer_count_ + image_count_, writes.data(), 0, nullptr);
   context_.submit([&](VkCommandBuffer commands) {
     if (queries_) {
       vkCmdResetQueryPool(commands, queries_, 0, 2);

@@ -42,21 +42,46 @@ class Buffer {
   size_t bytes_ = 0;
 };
 
-// A compute pipeline whose bindings 0 .. n-1 are storage buffers, with push constants.
+// A mip-mapped RGBA float cube map with a trilinear sampler, optionally anisotropic, for filtered
+// lookups with explicit gradients (textureGrad). The mip levels are given, not generated, so that
+// every device filters the same pyramid.
+class CubeTexture {
+ public:
+  // levels[l] holds 6 faces of (size >> l)^2 RGBA texels, face-major (the faces of LightCubeMap).
+  CubeTexture(Context& context, int size, const std::vector<std::vector<float>>& levels, bool anisotropic);
+  ~CubeTexture();
+  CubeTexture(const CubeTexture&) = delete;
+  CubeTexture& operator=(const CubeTexture&) = delete;
+  VkImageView view() const { return view_; }
+  VkSampler sampler() const { return sampler_; }
+  float max_anisotropy() const { return max_anisotropy_; }
+
+ private:
+  Context& context_;
+  VkImage image_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkImageView view_ = VK_NULL_HANDLE;
+  VkSampler sampler_ = VK_NULL_HANDLE;
+  float max_anisotropy_ = 1.0f;
+};
+
+// A compute pipeline whose bindings 0 .. n-1 are storage buffers, followed by `image_count` combined
+// image samplers, with push constants.
 class ComputePipeline {
  public:
   ComputePipeline(Context& context, const uint32_t* spirv, size_t spirv_bytes, uint32_t buffer_count,
-                  uint32_t push_constant_bytes);
+                  uint32_t push_constant_bytes, uint32_t image_count = 0);
   ~ComputePipeline();
   ComputePipeline(const ComputePipeline&) = delete;
   ComputePipeline& operator=(const ComputePipeline&) = delete;
   // Records, submits and waits for one dispatch; returns the GPU time in milliseconds measured with
   // timestamp queries (0 when the queue has no timestamps).
-  double dispatch(const std::vector<const Buffer*>& buffers, const void* push_constants, uint32_t groups_x);
+  double dispatch(const std::vector<const Buffer*>& buffers, const void* push_constants, uint32_t groups_x,
+                  const std::vector<const CubeTexture*>& images = {});
 
  private:
   Context& context_;
-  uint32_t buffer_count_, push_constant_bytes_;
+  uint32_t buffer_count_, push_constant_bytes_, image_count_;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
@@ -78,6 +103,9 @@ class Context {
   VkQueue queue() const { return queue_; }
   VkCommandPool command_pool() const { return command_pool_; }
   float timestamp_period() const { return timestamp_period_; }
+  VkPhysicalDevice physical_device() const { return physical_; }
+  // samplerAnisotropy is enabled when the device has it; 1 otherwise.
+  float max_anisotropy() const { return max_anisotropy_; }
   bool has_timestamps() const { return timestamps_; }
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags flags) const;
   // One-shot command buffer: record with `record`, submit, wait.
@@ -101,6 +129,7 @@ class Context {
   bool cpu_device_ = false;
   bool timestamps_ = false;
   float timestamp_period_ = 1.0f;
+  float max_anisotropy_ = 1.0f;
 };
 
 void check(VkResult result, const char* what);

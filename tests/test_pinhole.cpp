@@ -293,10 +293,25 @@ objects:
     EXPECT_NEAR(masked_sum(vulkan.caustic, cpu.gbuffer.receiver) / cpu_flux, 1.0, 1e-4) << c.knobs.back();
     EXPECT_FALSE(vulkan.method_record["gpu_device"].get<std::string>().empty());
   }
-  // Filtering is CPU-only so far: a clear error, not a silent fallback.
-  std::string message = causticbench::testing::input_error_message(
-      [&] { render(mirror, "pinhole", {"samples=100", "backend=vulkan", "filtering=anisotropic"}); });
-  EXPECT_NE(message.find("filtered lookups run on the cpu backend only"), std::string::npos) << message;
+  // Filtered lookups: the CPU backend filters a lat-long texture with OpenImageIO, the Vulkan backend a
+  // mip-mapped cube map with textureGrad, so they differ by their filters, not by rounding. Both keep
+  // the reference's flux within 4 %. Isotropic filtering agrees closely (measured relMSE 0.0024
+  // between the backends, each about 0.003 from the reference). lavapipe's anisotropic cube-map
+  // filtering does not: 0.14 from the reference against the CPU's 0.003 (see methods/pinhole/README.md),
+  // so only its flux is held to the bound here.
+  FrameResult reference = render(mirror, "reference", {"photons_per_pass=400000", "max_passes=40", "target_noise_floor=0"});
+  double reference_flux = masked_sum(reference.caustic, reference.gbuffer.receiver);
+  for (const char* filtering : {"filtering=isotropic", "filtering=anisotropic"}) {
+    FrameResult cpu = render(mirror, "pinhole", {"samples=3000", filtering});
+    FrameResult vulkan = render(mirror, "pinhole", {"samples=3000", filtering, "backend=vulkan"});
+    EXPECT_NEAR(masked_sum(vulkan.caustic, vulkan.gbuffer.receiver) / reference_flux, 1.0, 0.04) << filtering;
+    EXPECT_NEAR(masked_sum(cpu.caustic, cpu.gbuffer.receiver) / reference_flux, 1.0, 0.04) << filtering;
+    EXPECT_LT(relative_mse(cpu.caustic, reference.caustic, cpu.gbuffer.receiver), 0.01) << filtering;
+    if (std::string(filtering) == "filtering=isotropic") {
+      EXPECT_LT(relative_mse(vulkan.caustic, reference.caustic, cpu.gbuffer.receiver), 0.01);
+      EXPECT_LT(relative_mse(vulkan.caustic, cpu.caustic, cpu.gbuffer.receiver), 0.01);
+    }
+  }
 }
 
 // The portable path for GPU machines: causticbench dumps a frame, causticbench-gpubench replays it on

@@ -37,11 +37,13 @@ void write_frame_data(const PinholeFrameData& frame, const std::string& folder) 
   write_floats(folder + "/sample_normals.bin", frame.sample_normals);
   write_floats(folder + "/materials.bin", frame.materials);
   write_floats(folder + "/cube_map.bin", frame.cube_map);
+  write_floats(folder + "/differentials.bin", frame.differentials);
   std::ostringstream text;
   text.precision(9);
   text << "width " << frame.width << "\nheight " << frame.height << "\nresolution " << frame.resolution << "\nepsilon "
        << frame.epsilon << "\narea " << frame.area << "\nattenuation " << frame.attenuation << "\nfresnel "
-       << frame.fresnel << "\nrefraction " << frame.refraction << "\n";
+       << frame.fresnel << "\nrefraction " << frame.refraction << "\nfiltering " << frame.filtering
+       << "\nfootprint_radius " << frame.footprint_radius << "\n";
   std::ofstream(folder + "/frame.txt") << text.str();
 }
 
@@ -53,7 +55,8 @@ PinholeFrameData read_frame_data(const std::string& folder) {
   std::string name;
   double value;
   while (stream >> name >> value) values[name] = value;
-  for (const char* required : {"width", "height", "resolution", "epsilon", "area", "attenuation", "fresnel", "refraction"}) {
+  for (const char* required : {"width", "height", "resolution", "epsilon", "area", "attenuation", "fresnel", "refraction",
+                               "filtering", "footprint_radius"}) {
     if (!values.count(required)) throw std::runtime_error(folder + "/frame.txt: missing '" + required + "'");
   }
   frame.width = static_cast<uint32_t>(values["width"]);
@@ -64,12 +67,18 @@ PinholeFrameData read_frame_data(const std::string& folder) {
   frame.attenuation = static_cast<uint32_t>(values["attenuation"]);
   frame.fresnel = static_cast<uint32_t>(values["fresnel"]);
   frame.refraction = static_cast<uint32_t>(values["refraction"]);
+  frame.filtering = static_cast<uint32_t>(values["filtering"]);
+  frame.footprint_radius = static_cast<float>(values["footprint_radius"]);
   frame.receiver_positions = read_floats(folder + "/receiver_positions.bin");
   frame.receiver_normals = read_floats(folder + "/receiver_normals.bin");
   frame.sample_positions = read_floats(folder + "/sample_positions.bin");
   frame.sample_normals = read_floats(folder + "/sample_normals.bin");
   frame.materials = read_floats(folder + "/materials.bin");
   frame.cube_map = read_floats(folder + "/cube_map.bin");
+  frame.differentials = read_floats(folder + "/differentials.bin");
+  if (frame.filtering != 0 && frame.differentials.size() != 4ull * frame.sample_positions.size()) {
+    throw std::runtime_error(folder + "/differentials.bin: expected 16 floats per sample when filtering");
+  }
   if (frame.receiver_positions.size() != 4ull * frame.pixel_count() || frame.receiver_normals.size() != 4ull * frame.pixel_count()) {
     throw std::runtime_error(folder + ": receiver arrays do not match width x height");
   }

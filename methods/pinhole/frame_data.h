@@ -18,10 +18,13 @@ struct PinholeFrameData {
   std::vector<float> materials;           // 12 per material: reflectance rgb, kind (0 constant, 1 conductor,
                                           // 2 glass); eta rgb, ior; k rgb, 0
   std::vector<float> cube_map;            // 6 x resolution^2 x rgb, LightCubeMap's layout
+  std::vector<float> differentials;       // 16 per sample when filtering: u, v directions, dn/du, dn/dv (xyz, 0)
   int32_t resolution = 0;
   float epsilon = 0.0f;
   float area = 0.0f;
   uint32_t attenuation = 1, fresnel = 1, refraction = 0;
+  uint32_t filtering = 0;  // 0 none, 1 isotropic, 2 anisotropic
+  float footprint_radius = 0.0f;  // r of the differential point samples
 
   uint32_t pixel_count() const { return width * height; }
   uint32_t sample_count() const { return static_cast<uint32_t>(sample_positions.size() / 4); }

@@ -21,7 +21,15 @@ layout(push_constant) uniform Parameters {
   uint attenuation;
   uint fresnel;
   uint refraction;
+  float footprint_radius;
 } p;
+
+#ifdef FILTERED
+// Differential point samples (Section 3.3): per sample the two principal directions and the normal's
+// derivative along each; the light map as a mip-mapped cube texture for textureGrad.
+layout(std430, binding = 7) readonly buffer Differentials { vec4 differential[]; };
+layout(binding = 8) uniform samplerCube light_map;
+#endif
 
 float fresnel_dielectric(float cos_incident, float eta) {
   cos_incident = clamp(cos_incident, 0.0, 1.0);
@@ -83,6 +91,23 @@ bool refract_direction(vec3 d, vec3 n, float eta, out vec3 transmitted) {
   return true;
 }
 
+// Direction towards the light seen through a sample from a receiver in `direction`, and the cosine at
+// the sample (methods/pinhole/pinhole.cpp, light_direction).
+bool light_direction(vec3 direction, vec3 n, bool two_sided, float ior, out vec3 to_light, out float cos_sample) {
+  cos_sample = p.refraction != 0u ? dot(n, direction) : -dot(n, direction);
+  to_light = vec3(0.0);
+  if (cos_sample <= 0.0) {
+    if (!two_sided) return false;
+    n = -n;
+    cos_sample = -cos_sample;
+  }
+  if (p.refraction == 0u) {
+    to_light = direction - 2.0 * dot(direction, n) * n;
+    return true;
+  }
+  return refract_direction(direction, -n, 1.0 / ior, to_light);
+}
+
 void main() {
   uint pixel = gl_GlobalInvocationID.x;
   if (pixel >= p.pixel_count) return;
@@ -101,22 +126,26 @@ void main() {
     if (dot(receiver_n, offset) <= 0.0) continue;
     vec3 direction = offset * (1.0 / sqrt(distance2));
     float cos_receiver = dot(receiver_n, direction);
-    vec3 n = normal_and_material.xyz;
-    float cos_sample = p.refraction != 0u ? dot(n, direction) : -dot(n, direction);
-    if (cos_sample <= 0.0) {
-      if (position.w < 0.5) continue;
-      n = -n;
-      cos_sample = -cos_sample;
-    }
     int m = int(normal_and_material.w) * 3;
     vec4 m0 = material[m], m1 = material[m + 1], m2 = material[m + 2];
     vec3 to_light;
-    if (p.refraction == 0u) {
-      to_light = direction - 2.0 * dot(direction, n) * n;
-    } else if (!refract_direction(direction, -n, 1.0 / m1.w, to_light)) {
-      continue;
+    float cos_sample;
+    if (!light_direction(direction, normal_and_material.xyz, position.w >= 0.5, m1.w, to_light, cos_sample)) continue;
+#ifdef FILTERED
+    // The footprint's gradients: light directions at p + r u and p + r v with normals n + r dn/du, n + r dn/dv.
+    vec3 gradient[2];
+    for (int k = 0; k < 2; ++k) {
+      vec3 moved = position.xyz + p.footprint_radius * differential[4u * i + uint(k)].xyz - x;
+      vec3 moved_normal = normalize(normal_and_material.xyz + p.footprint_radius * differential[4u * i + 2u + uint(k)].xyz);
+      vec3 moved_light;
+      float unused;
+      gradient[k] = light_direction(normalize(moved), moved_normal, position.w >= 0.5, m1.w, moved_light, unused)
+                        ? moved_light - to_light : vec3(0.0);
     }
+    vec3 radiance = textureGrad(light_map, to_light, gradient[0], gradient[1]).rgb;
+#else
     vec3 radiance = cube_lookup(to_light);
+#endif
     if (radiance.r + radiance.g + radiance.b <= 0.0) continue;
     float cosine = p.fresnel != 0u ? cos_sample : 1.0;
     vec3 throughput;

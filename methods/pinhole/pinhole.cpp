@@ -32,7 +32,7 @@ const MethodInfo& PinholeMethod::static_info() {
         ParamSpec::integer("environment_resolution", 256, 4, 4096, "cube map face size of the light map (paper: 256)", build),
         ParamSpec::integer("seed", 1, 0, 4e9, "seed of the reflector sampling", build),
         ParamSpec::choice("backend", "cpu", {"cpu", "vulkan"},
-                          "cpu (multithreaded, SIMD) or vulkan (compute shader; lavapipe without a GPU; no filtering yet)", build),
+                          "cpu (multithreaded, SIMD, OpenImageIO filtering) or vulkan (compute shader, textureGrad on a mip-mapped cube map; lavapipe without a GPU)", build),
         ParamSpec::real("epsilon", -1.0, -1.0, 1e6,
                         "added to the squared distance against the singularity; -1: the squared sample spacing A/N", render),
         ParamSpec::boolean("attenuation", true, "cosines over squared distance; false reproduces Fig. 5", render),
@@ -84,10 +84,6 @@ void PinholeMethod::prepare(const Scene& scene, const ParamSet& build) {
   build_ = build;
   scene_ = &scene;
   if (build.text("backend") == "vulkan") {
-    if (build.text("filtering") != "none") {
-      throw InputError("pinhole.filtering: expected none with backend: vulkan (filtered lookups run on the cpu backend only, "
-                       "so far), found '" + build.text("filtering") + "'");
-    }
     if (!gpu_context_) gpu_context_ = std::make_unique<gpu::Context>();
     if (!vulkan_) vulkan_ = std::make_unique<VulkanPinhole>(*gpu_context_);
   }
@@ -136,14 +132,22 @@ void PinholeMethod::update(const FrameContext& context) {
                                   material->eta.r, material->eta.g, material->eta.b, material->ior,
                                   material->k.r, material->k.g, material->k.b, 0.0f});
   }
-  if (vulkan_) vulkan_->upload_frame(frame_data_);
   if (build_.text("filtering") != "none") {
     // The denser neighbourhood for the regression: three sample spacings across.
     estimate_differentials(samples_, 1.5 * samples_.spacing);
-    if (lights_changed || !filtered_map_) {
+    frame_data_.filtering = build_.text("filtering") == "anisotropic" ? 2 : 1;
+    frame_data_.footprint_radius = static_cast<float>(0.5 * samples_.spacing);
+    for (const ReflectorSample& sample : samples_.samples) {
+      for (const Vec3& v : {sample.direction_u, sample.direction_v, sample.normal_derivative_u, sample.normal_derivative_v}) {
+        frame_data_.differentials.insert(frame_data_.differentials.end(), {v.x, v.y, v.z, 0.0f});
+      }
+    }
+    if (!vulkan_ && (lights_changed || !filtered_map_)) {
       filtered_map_ = std::make_unique<FilteredLightMap>(lights, static_cast<int>(build_.integer("environment_resolution")) * 2);
     }
-  } else {
+  }
+  if (vulkan_) vulkan_->upload_frame(frame_data_);
+  if (build_.text("filtering") == "none") {
     samples_.dense.clear();
     samples_.dense.shrink_to_fit();
   }

@@ -15,7 +15,8 @@ class VulkanPinhole {
  public:
   explicit VulkanPinhole(gpu::Context& context);
   ~VulkanPinhole();
-  // Uploads the per-frame data (samples, materials, cube map) of `frame`.
+  // Uploads the per-frame data (samples, materials, cube map; when filtering, the differentials and a
+  // mip-mapped cube texture whose levels are 2 x 2 box averages) of `frame`.
   void upload_frame(const PinholeFrameData& frame);
   // Uploads the receivers of `frame`, dispatches, and returns RGBA irradiance per pixel; gpu_ms gets the
   // kernel's duration from timestamp queries.
@@ -23,8 +24,9 @@ class VulkanPinhole {
 
  private:
   gpu::Context& context_;
-  std::unique_ptr<gpu::ComputePipeline> pipeline_;
-  std::unique_ptr<gpu::Buffer> sample_positions_, sample_normals_, materials_, cube_map_;
+  std::unique_ptr<gpu::ComputePipeline> pipeline_, filtered_pipeline_;
+  std::unique_ptr<gpu::Buffer> sample_positions_, sample_normals_, materials_, cube_map_, differentials_;
+  std::unique_ptr<gpu::CubeTexture> texture_;
   std::unique_ptr<gpu::Buffer> receiver_positions_, receiver_normals_, output_;
 };
 
