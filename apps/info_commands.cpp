@@ -67,8 +67,9 @@ int run_validate(const std::string& file) {
   // An experiment names its methods; a scene does not.
   if (ConfigNode::load_file(file).has("methods")) {
     Experiment experiment = load_experiment(file);
-    fmt::print("{}: valid experiment '{}': scene {}, {} run(s), {} frame(s), {} repetition(s)\n", file, experiment.name,
-               experiment.scene_path, experiment.runs.size(), experiment.frames.size(), experiment.repetitions);
+    fmt::print("{}: valid experiment '{}': scene {}, {} variant(s), {} run(s), {} frame(s), {} repetition(s)\n", file,
+               experiment.name, experiment.scene_path, experiment.variants.size(), experiment.runs.size(),
+               experiment.frames.size(), experiment.repetitions);
     return 0;
   }
   Scene scene = load_scene(file);

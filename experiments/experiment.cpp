@@ -73,14 +73,19 @@ bool matches_filter(const std::string& method, const std::string& label, const n
   return true;
 }
 
-bool run_matches_filter(const RunSpec& run, const std::string& filter) {
-  return matches_filter(run.method, run.label, run.params.to_json(), filter);
+bool run_matches_filter(const Experiment& experiment, const RunSpec& run, const std::string& filter) {
+  nlohmann::json knobs = run.params.to_json();
+  knobs["variant"] = experiment.variants.at(run.variant).name;
+  return matches_filter(run.method, run.label, knobs, filter);
 }
 
 bool record_matches_filter(const nlohmann::json& record, const std::string& filter) {
   nlohmann::json knobs = nlohmann::json::object();
   for (const char* phase : {"build", "render"}) {
     if (record.contains(phase) && record[phase].is_object()) knobs.update(record[phase]);
+  }
+  for (const char* field : {"variant", "receiver_pixels"}) {
+    if (record.contains(field)) knobs[field] = record[field];
   }
   return matches_filter(record.value("method", ""), record.value("label", ""), knobs, filter);
 }
@@ -189,6 +194,37 @@ nlohmann::json read_overrides(const ConfigNode& node, Scene& scene) {
   }
   node.finish();
   return applied;
+}
+
+// `variants`: a list of override maps (the keys of `overrides`, plus an optional `name`), each applied
+// on top of the base overrides. Without it, the base is the one variant, named "default".
+std::vector<SceneVariant> read_variants(const ConfigNode& root, const SceneVariant& base) {
+  std::optional<ConfigNode> list = root.optional_child("variants");
+  if (!list) return {base};
+  if (!list->is_sequence() || list->size() == 0) list->fail_here("a non-empty list of override maps", list->describe_value());
+  std::vector<SceneVariant> variants;
+  std::set<std::string> names;
+  for (size_t i = 0; i < list->size(); ++i) {
+    ConfigNode item = list->at(i);
+    if (!item.is_map()) item.fail_here("a map of overrides (resolution, camera, light) and an optional name", item.describe_value());
+    SceneVariant variant = base;
+    variant.name = item.string_or("name", "");
+    if (!variant.name.empty() && !std::regex_match(variant.name, std::regex("[A-Za-z0-9_.-]+"))) {
+      item.fail("name", "a name of letters, digits, '_', '.' and '-'", "'" + variant.name + "'");
+    }
+    nlohmann::json own = read_overrides(item, variant.scene);
+    variant.overrides.merge_patch(own);
+    if (variant.name.empty()) {
+      variant.name = own.size() == 1 && own.contains("resolution")
+                         ? fmt::format("{}x{}", variant.scene.camera.width, variant.scene.camera.height)
+                         : fmt::format("variant{}", i);
+    }
+    if (!names.insert(variant.name).second) {
+      item.fail_here("variants with different names (set `name`)", "a second variant named '" + variant.name + "'");
+    }
+    variants.push_back(std::move(variant));
+  }
+  return variants;
 }
 
 std::vector<int> read_frames(const ConfigNode& root, const Scene& scene) {
@@ -301,19 +337,27 @@ nlohmann::json read_claims(const ConfigNode& node, const std::vector<std::string
 nlohmann::json Experiment::to_json() const {
   nlohmann::json runs_json = nlohmann::json::array();
   for (const RunSpec& run : runs) runs_json.push_back(run.key);
+  nlohmann::json variants_json = nlohmann::json::array();
+  for (const SceneVariant& variant : variants) {
+    variants_json.push_back({{"name", variant.name},
+                             {"overrides", variant.overrides},
+                             {"resolution", {variant.scene.camera.width, variant.scene.camera.height}},
+                             {"reference_key", variant.reference_key}});
+  }
   return {{"name", name},
           {"source", source},
           {"description", description},
           {"scene", scene_path},
           {"scene_hash", scene_hash},
-          {"overrides", overrides},
-          {"resolution", {scene.camera.width, scene.camera.height}},
+          {"overrides", variants.front().overrides},
+          {"resolution", {variants.front().scene.camera.width, variants.front().scene.camera.height}},
+          {"variants", variants_json},
           {"frames", frames},
           {"repetitions", repetitions},
           {"metrics", metrics},
           {"primary_metric", primary_metric},
           {"reference", reference_params.to_json()},
-          {"reference_key", reference_key},
+          {"reference_key", variants.front().reference_key},
           {"runs", runs_json},
           {"paper", paper},
           {"claims", claims}};
@@ -338,12 +382,12 @@ Experiment load_experiment(const std::string& path) {
   }
   experiment.scene_path = scene_path.lexically_normal().string();
   experiment.scene_hash = hash_text(read_text(experiment.scene_path));
-  experiment.scene = load_scene(experiment.scene_path);
-  experiment.overrides = nlohmann::json::object();
+  SceneVariant base{"default", nlohmann::json::object(), load_scene(experiment.scene_path), ""};
   if (std::optional<ConfigNode> overrides = root.optional_child("overrides")) {
-    experiment.overrides = read_overrides(*overrides, experiment.scene);
+    base.overrides = read_overrides(*overrides, base.scene);
   }
-  experiment.frames = read_frames(root, experiment.scene);
+  experiment.variants = read_variants(root, base);
+  experiment.frames = read_frames(root, experiment.variants.front().scene);
   experiment.repetitions = root.integer_or("repetitions", 3, 1, 1000);
 
   // Metrics: named ones, or every per-frame metric (plus flicker for animations).
@@ -372,9 +416,11 @@ Experiment load_experiment(const std::string& path) {
   ParamDict reference_dict;
   if (std::optional<ConfigNode> reference = root.optional_child("reference")) reference_dict.set_from_config(*reference);
   experiment.reference_params = reference_dict.resolve(find_method("reference").info().params, "reference");
-  experiment.reference_key = hash_json({{"scene_hash", experiment.scene_hash},
-                                        {"overrides", experiment.overrides},
-                                        {"reference", experiment.reference_params.to_json()}});
+  for (SceneVariant& variant : experiment.variants) {
+    variant.reference_key = hash_json({{"scene_hash", experiment.scene_hash},
+                                       {"overrides", variant.overrides},
+                                       {"reference", experiment.reference_params.to_json()}});
+  }
 
   ConfigNode methods = root.child("methods");
   if (methods.size() == 0) methods.fail_here("at least one method entry", "an empty list");
@@ -416,6 +462,8 @@ Experiment load_experiment(const std::string& path) {
       }
     }
     entry.finish();
+    for (size_t v = 0; v < experiment.variants.size(); ++v) {
+    const SceneVariant& variant = experiment.variants[v];
     for (const KnobAssignment& assignment : expand_sweep(fixed, sweep, zip)) {
       ParamDict dict;
       for (const auto& [name, value] : assignment) dict.set(name, value.text, value.where);
@@ -429,13 +477,15 @@ Experiment load_experiment(const std::string& path) {
         run.swept[name] = format_knob_value(run.params.values().at(name));
         swept_text += fmt::format(" {}={}", name, run.swept[name]);
       }
-      run.label = label + swept_text;
-      run.spec = {{"scene_hash", experiment.scene_hash}, {"overrides", experiment.overrides},
+      run.variant = v;
+      run.label = label + swept_text + (experiment.variants.size() > 1 ? " @" + variant.name : "");
+      run.spec = {{"scene_hash", experiment.scene_hash}, {"overrides", variant.overrides},
                   {"frames", experiment.frames},         {"repetitions", experiment.repetitions},
                   {"method", info.name},                 {"params", run.params.to_json()}};
       run.key = hash_json(run.spec);
       if (!seen.insert(run.key).second) continue;  // the same run twice: keep one
       experiment.runs.push_back(std::move(run));
+    }
     }
   }
   experiment.paper = nullptr;

@@ -20,6 +20,7 @@ namespace causticbench {
 // the configuration and a sweep resumes where it stopped.
 struct RunSpec {
   std::string key;
+  size_t variant = 0;                       // index into Experiment::variants
   std::string method;
   std::string label;
   ParamSet params;                          // every knob, defaults filled in
@@ -29,20 +30,27 @@ struct RunSpec {
   nlohmann::json spec;                      // the canonical spec that was hashed
 };
 
+// One version of the experiment's scene: the base overrides with a variant's on top (a resolution, a
+// camera, a light), and the reference that goes with it. Every method entry runs on every variant.
+struct SceneVariant {
+  std::string name;          // "default" for an experiment without `variants`
+  nlohmann::json overrides;  // as applied (canonical): the base overrides merged with the variant's
+  Scene scene;               // loaded, overrides applied
+  std::string reference_key;
+};
+
 struct Experiment {
   std::string name;
   std::string source;        // the experiment file
   std::string description;
   std::string scene_path;
   std::string scene_hash;    // of the scene file's text
-  nlohmann::json overrides;  // as applied (canonical)
-  Scene scene;               // loaded, overrides applied
+  std::vector<SceneVariant> variants;  // at least one
   std::vector<int> frames;
   int repetitions = 3;
   std::vector<std::string> metrics;
   std::string primary_metric = "relmse";
   ParamSet reference_params;
-  std::string reference_key;
   std::vector<RunSpec> runs;
   nlohmann::json paper;      // null when absent
   nlohmann::json claims;     // array (possibly empty): the paper's claims the report checks
@@ -70,8 +78,9 @@ std::string hash_text(const std::string& text);
 // every term does. `knobs` is a JSON object of knob values.
 bool matches_filter(const std::string& method, const std::string& label, const nlohmann::json& knobs,
                     const std::string& filter);
-bool run_matches_filter(const RunSpec& run, const std::string& filter);
-// The same for a stored record.json (its build and render knobs).
+// A run also matches `variant=NAME` (the name of its scene variant).
+bool run_matches_filter(const Experiment& experiment, const RunSpec& run, const std::string& filter);
+// The same for a stored record.json (its build and render knobs, its variant and receiver_pixels).
 bool record_matches_filter(const nlohmann::json& record, const std::string& filter);
 
 }  // namespace causticbench

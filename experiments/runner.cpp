@@ -70,22 +70,23 @@ struct ReferenceFrame {
 };
 
 // Loads the cached reference frame, or computes and stores it.
-ReferenceFrame reference_frame(const Experiment& experiment, const ResultPaths& paths, int frame) {
-  fs::path folder = paths.reference(experiment.reference_key);
+ReferenceFrame reference_frame(const Experiment& experiment, const SceneVariant& variant, const ResultPaths& paths, int frame) {
+  fs::path folder = paths.reference(variant.reference_key);
   fs::create_directories(folder);
   std::string name = ResultPaths::frame_file(frame);
   fs::path image = folder / (name + ".exr"), record = folder / (ResultPaths::frame_file(frame, "record") + ".json");
-  PosedFrame posed(experiment.scene, frame);
+  PosedFrame posed(variant.scene, frame);
   ReferenceFrame result;
   result.mask = posed.gbuffer.receiver;
   if (fs::is_regular_file(record) && fs::is_regular_file(image)) {
     result.caustic = read_exr(image.string());
     return result;
   }
-  fmt::print(stderr, "reference {} frame {}: computing (cached in {})\n", experiment.reference_key, frame, folder.string());
+  fmt::print(stderr, "reference {} frame {}{}: computing (cached in {})\n", variant.reference_key, frame,
+             experiment.variants.size() > 1 ? " of variant " + variant.name : "", folder.string());
   std::unique_ptr<CausticMethod> method = create_method("reference");
   const MethodInfo& info = method->info();
-  method->prepare(experiment.scene, select_phase(experiment.reference_params, info.params, ParamPhase::build));
+  method->prepare(variant.scene, select_phase(experiment.reference_params, info.params, ParamPhase::build));
   method->update(FrameContext{posed.frame, posed.tracer});
   result.caustic = method->render(posed.gbuffer, select_phase(experiment.reference_params, info.params, ParamPhase::render));
   for (size_t pixel = 0; pixel < posed.gbuffer.pixel_count(); ++pixel) {
@@ -114,7 +115,7 @@ ReferenceFrame reference_frame(const Experiment& experiment, const ResultPaths& 
     }
   }
   summary["frames"] = frames;
-  summary["key"] = experiment.reference_key;
+  summary["key"] = variant.reference_key;
   write_text_atomically((folder / "record.json").string(), summary.dump(2) + "\n");
   return result;
 }
@@ -126,7 +127,8 @@ struct RunOutcome {
 
 // Times and measures one run whose method has been prepared.
 RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, CausticMethod& method, double prepare_seconds,
-                       std::map<int, ReferenceFrame>& references) {
+                       const std::map<int, ReferenceFrame>& references) {
+  const SceneVariant& variant = experiment.variants.at(run.variant);
   RunOutcome outcome;
   nlohmann::json frames = nlohmann::json::array();
   std::vector<double> all_update, all_render, all_frame, all_gpu;
@@ -141,8 +143,12 @@ RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, Caustic
     per_frame_metrics.push_back("nonfinite_pixels");
   }
   size_t nonfinite = 0;
+  size_t receiver_pixels = 0;
   for (int frame : experiment.frames) {
-    PosedFrame posed(experiment.scene, frame);
+    PosedFrame posed(variant.scene, frame);
+    if (frame == experiment.frames.front()) {
+      receiver_pixels = static_cast<size_t>(std::count(posed.gbuffer.receiver.begin(), posed.gbuffer.receiver.end(), 1));
+    }
     FrameContext context{posed.frame, posed.tracer};
     Image image;
     // One warm-up, then the timed repetitions.
@@ -197,6 +203,9 @@ RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, Caustic
                     {"error", nonfinite ? fmt::format("the output has {} non-finite pixels", nonfinite) : ""},
                     {"method", run.method},
                     {"label", run.label},
+                    {"variant", variant.name},
+                    {"reference_key", variant.reference_key},
+                    {"receiver_pixels", receiver_pixels},
                     {"build", run.build.to_json()},
                     {"render", run.render.to_json()},
                     {"swept", run.swept},
@@ -231,6 +240,8 @@ void store_failure(const ResultPaths& paths, const Experiment& experiment, const
   RunOutcome outcome;
   outcome.record = {{"key", run.key},          {"status", "failed"},           {"error", error},
                     {"method", run.method},    {"label", run.label},           {"build", run.build.to_json()},
+                    {"variant", experiment.variants.at(run.variant).name},
+                    {"reference_key", experiment.variants.at(run.variant).reference_key},
                     {"render", run.render.to_json()}, {"swept", run.swept},    {"frames", nlohmann::json::array()},
                     {"metrics", nlohmann::json::object()}, {"spec", run.spec}};
   store_run(paths, experiment, outcome);
@@ -246,7 +257,7 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& option
   for (size_t i = 0; i < experiment.runs.size(); ++i) {
     const RunSpec& run = experiment.runs[i];
     if (static_cast<int>(i % options.shard_count) != options.shard_index) continue;
-    if (!options.filter.empty() && !run_matches_filter(run, options.filter)) continue;
+    if (!options.filter.empty() && !run_matches_filter(experiment, run, options.filter)) continue;
     ++summary.selected;
     bool stored = run_is_stored(paths.run(experiment.name, run.key));
     if (options.dry_run) {
@@ -268,14 +279,21 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& option
   write_text_atomically((fs::path(folder) / "environment.json").string(), environment.dump(2) + "\n");
   write_text_atomically((fs::path(folder) / "experiment.json").string(), experiment.to_json().dump(2) + "\n");
 
-  std::map<int, ReferenceFrame> references;
-  for (int frame : experiment.frames) references[frame] = reference_frame(experiment, paths, frame);
+  // The references of the variants that have pending runs, computed (or loaded) before any run.
+  std::map<size_t, std::map<int, ReferenceFrame>> references;
+  for (const RunSpec* run : pending) {
+    if (references.count(run->variant)) continue;
+    std::map<int, ReferenceFrame>& frames = references[run->variant];
+    for (int frame : experiment.frames) {
+      frames[frame] = reference_frame(experiment, experiment.variants[run->variant], paths, frame);
+    }
+  }
 
-  // Group pending runs by (method, build knobs): prepare once per group.
+  // Group pending runs by (variant, method, build knobs): prepare once per group.
   std::vector<std::vector<const RunSpec*>> groups;
   std::map<std::string, size_t> group_of;
   for (const RunSpec* run : pending) {
-    std::string group_key = run->method + run->build.to_json().dump();
+    std::string group_key = std::to_string(run->variant) + "/" + run->method + run->build.to_json().dump();
     auto [it, inserted] = group_of.insert({group_key, groups.size()});
     if (inserted) groups.emplace_back();
     groups[it->second].push_back(run);
@@ -287,9 +305,10 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& option
     double prepare_seconds = 0.0;
     std::string prepare_error;
     try {
-      method->check_scene(experiment.scene);
+      const Scene& scene = experiment.variants.at(group.front()->variant).scene;
+      method->check_scene(scene);
       auto start = Clock::now();
-      method->prepare(experiment.scene, group.front()->build);
+      method->prepare(scene, group.front()->build);
       prepare_seconds = seconds_since(start);
     } catch (const std::exception& error) {
       prepare_error = error.what();
@@ -297,7 +316,7 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& option
     for (const RunSpec* run : group) {
       try {
         if (!prepare_error.empty()) throw std::runtime_error(prepare_error);
-        RunOutcome outcome = measure_run(experiment, *run, *method, prepare_seconds, references);
+        RunOutcome outcome = measure_run(experiment, *run, *method, prepare_seconds, references.at(run->variant));
         store_run(paths, experiment, outcome);
         if (outcome.record["status"] == "ok") {
           ++summary.completed;

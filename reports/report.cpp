@@ -222,6 +222,11 @@ struct Run {
   json record;
   bool ok = false;
   std::string status, method, label, error;
+  // The scene variant the run belongs to and the reference it is compared with: the record's "variant"
+  // and "reference_key"; an older record without them gets the variant whose reference_key it names,
+  // else the first variant ("default" in a plain experiment), and that variant's reference.
+  std::string variant, reference_key;
+  size_t variant_index = 0;  // into Report::variants
 
   std::optional<double> metric(const std::string& name) const { return number(member(record, "metrics"), name); }
   std::optional<double> timing(const std::string& name) const { return number(member(record, "timings"), name); }
@@ -229,6 +234,25 @@ struct Run {
   const json& swept() const { return member(record, "swept"); }
   std::string swept_text() const { return knobs_text(swept()); }
   std::optional<double> frame_ms() const { return timing("frame_ms_median"); }
+  // Receiver pixels of the run's first frame (G-buffer), when the record has them.
+  const json& receiver_pixels() const { return member(record, "receiver_pixels"); }
+};
+
+// One scene variant of the experiment (experiment.json "variants"; a plain experiment has one,
+// "default") with its reference.
+struct Variant {
+  std::string name, reference_key;
+  json resolution, overrides;  // as experiment.json states them (null when it does not)
+  bool listed = true;          // false: named by a run record only
+  json reference;              // the reference's record.json, or null
+  std::optional<double> noise_floor;
+  json history = json::array();
+};
+
+// Pareto fronts (indices into Report::runs) within one variant: over all methods, and per method.
+struct Fronts {
+  std::vector<size_t> overall;
+  std::map<std::string, std::vector<size_t>> per_method;
 };
 
 struct Thumbnail {
@@ -283,16 +307,11 @@ struct Report {
   std::vector<Run> runs;             // records found, in the experiment's order
   std::vector<std::string> missing;  // run keys without a record.json
   std::vector<std::string> methods;  // in order of first appearance
-  std::string reference_key;
-  fs::path reference_folder;
-  json reference;  // the reference's record.json, or null
-  std::optional<double> noise_floor;
-  json history = json::array();
-  std::vector<std::string> notes;  // warnings shown at the top of the report
+  std::vector<Variant> variants;     // never empty; experiment.json's order, then any only runs name
+  std::vector<std::string> notes;    // warnings shown at the top of the report
 
-  // Pareto fronts (indices into runs), per method and over all methods.
-  std::map<std::string, std::vector<size_t>> method_front;
-  std::vector<size_t> overall_front;
+  // Pareto fronts, one set per variant (index as in variants): a run competes only within its variant.
+  std::vector<Fronts> fronts;
 
   std::vector<Thumbnail> thumbnails;
   std::string error_scale_text;  // what the brightest colour of the error maps means
@@ -308,12 +327,33 @@ struct Report {
   size_t failed_count() const {
     return static_cast<size_t>(std::count_if(runs.begin(), runs.end(), [](const Run& run) { return !run.ok; }));
   }
+  bool multi() const { return variants.size() > 1; }
+  fs::path reference_folder(const std::string& key) const {
+    return key.empty() ? fs::path() : folder.parent_path() / "references" / key;
+  }
   bool on_front(size_t run) const {
-    auto it = method_front.find(runs[run].method);
-    return it != method_front.end() && std::find(it->second.begin(), it->second.end(), run) != it->second.end();
+    if (fronts.empty()) return false;
+    const auto& per_method = fronts[runs[run].variant_index].per_method;
+    auto it = per_method.find(runs[run].method);
+    return it != per_method.end() && std::find(it->second.begin(), it->second.end(), run) != it->second.end();
   }
   bool on_overall_front(size_t run) const {
-    return std::find(overall_front.begin(), overall_front.end(), run) != overall_front.end();
+    if (fronts.empty()) return false;
+    const std::vector<size_t>& overall = fronts[runs[run].variant_index].overall;
+    return std::find(overall.begin(), overall.end(), run) != overall.end();
+  }
+  // Every variant's overall front, in variant order.
+  std::vector<size_t> overall_fronts() const {
+    std::vector<size_t> all;
+    for (const Fronts& f : fronts) all.insert(all.end(), f.overall.begin(), f.overall.end());
+    return all;
+  }
+  // The run's label as a person reads it: with several variants, its variant is added unless the label
+  // names it already (the runner appends " @<variant>").
+  std::string display(size_t run) const {
+    const Run& r = runs[run];
+    if (!multi() || r.label.find("@" + r.variant) != std::string::npos) return r.label;
+    return r.label + " @" + r.variant;
   }
 };
 
@@ -457,25 +497,88 @@ void load(Report& report, const std::string& folder_text) {
                          : (report.metrics.empty() ? "relmse" : report.metrics.front());
   }
 
-  // The reference.
-  report.reference_key = string_member(report.experiment, "reference_key");
-  if (report.reference_key.empty()) {
-    report.notes.push_back(
-        "experiment.json names no reference_key: no reference images, noise floor or "
-        "error maps.");
-  } else {
-    report.reference_folder = folder.parent_path() / "references" / report.reference_key;
-    fs::path path = report.reference_folder / "record.json";
-    if (fs::is_regular_file(path)) {
-      report.reference = read_json(path);
-      const json& floor = reference_field(report.reference, "noise_floor");
-      if (floor.is_number()) report.noise_floor = floor.get<double>();
-      const json& history = reference_field(report.reference, "history");
-      if (history.is_array()) report.history = history;
-    } else {
-      report.notes.push_back(
-          fmt::format("The reference record {} is missing: no noise floor or convergence plot.", path.string()));
+  // The scene variants: experiment.json's list; without one, a single "default" variant with the
+  // top-level reference_key.
+  std::string top_key = string_member(report.experiment, "reference_key");
+  const json& listed_variants = member(report.experiment, "variants");
+  if (listed_variants.is_array()) {
+    for (const json& entry : listed_variants) {
+      if (!entry.is_object()) continue;
+      Variant variant;
+      variant.name = string_member(
+          entry, "name", report.variants.empty() ? "default" : fmt::format("variant{}", report.variants.size()));
+      variant.reference_key = string_member(entry, "reference_key", report.variants.empty() ? top_key : "");
+      variant.resolution = member(entry, "resolution");
+      variant.overrides = member(entry, "overrides");
+      bool known = std::any_of(report.variants.begin(), report.variants.end(),
+                               [&](const Variant& v) { return v.name == variant.name; });
+      if (!known) report.variants.push_back(std::move(variant));
     }
+  }
+  if (report.variants.empty()) {
+    Variant variant;
+    variant.name = "default";
+    variant.reference_key = top_key;
+    variant.resolution = member(report.experiment, "resolution");
+    variant.overrides = member(report.experiment, "overrides");
+    report.variants.push_back(std::move(variant));
+  }
+  std::vector<std::string> unlisted;
+  for (Run& run : report.runs) {
+    run.variant = string_member(run.record, "variant");
+    run.reference_key = string_member(run.record, "reference_key");
+    if (run.variant.empty()) {
+      auto named = std::find_if(report.variants.begin(), report.variants.end(), [&](const Variant& v) {
+        return !run.reference_key.empty() && v.reference_key == run.reference_key;
+      });
+      run.variant = named != report.variants.end() ? named->name : report.variants.front().name;
+    }
+    auto found = std::find_if(report.variants.begin(), report.variants.end(),
+                              [&](const Variant& v) { return v.name == run.variant; });
+    if (found == report.variants.end()) {
+      Variant variant;
+      variant.name = run.variant;
+      variant.reference_key = run.reference_key;
+      variant.listed = false;
+      unlisted.push_back(run.variant);
+      report.variants.push_back(std::move(variant));
+      found = std::prev(report.variants.end());
+    }
+    run.variant_index = static_cast<size_t>(found - report.variants.begin());
+    if (run.reference_key.empty()) run.reference_key = found->reference_key;
+  }
+  if (!unlisted.empty())
+    report.notes.push_back(
+        fmt::format("Run records name variant(s) that experiment.json does not list: {}.", join(unlisted, ", ")));
+
+  // Each variant's reference record: noise floor, history, passes, seconds.
+  std::map<std::string, json> records;
+  std::set<std::string> missing_records;
+  for (Variant& variant : report.variants) {
+    if (variant.reference_key.empty()) {
+      report.notes.push_back(report.multi() ? fmt::format("Variant {} names no reference_key: no reference image, "
+                                                          "noise floor or error maps for it.",
+                                                          variant.name)
+                                            : "experiment.json names no reference_key: no reference images, noise "
+                                              "floor or error maps.");
+      continue;
+    }
+    fs::path path = report.reference_folder(variant.reference_key) / "record.json";
+    if (!records.count(variant.reference_key)) {
+      if (fs::is_regular_file(path)) {
+        records[variant.reference_key] = read_json(path);
+      } else {
+        records[variant.reference_key] = nullptr;
+        if (missing_records.insert(variant.reference_key).second)
+          report.notes.push_back(fmt::format("The reference record {} is missing: no noise floor or convergence plot{}.",
+                                             path.string(), report.multi() ? " for variant " + variant.name : ""));
+      }
+    }
+    variant.reference = records[variant.reference_key];
+    const json& floor = reference_field(variant.reference, "noise_floor");
+    if (floor.is_number()) variant.noise_floor = floor.get<double>();
+    const json& history = reference_field(variant.reference, "history");
+    if (history.is_array()) variant.history = history;
   }
 }
 
@@ -483,27 +586,32 @@ void load(Report& report, const std::string& folder_text) {
 // Pareto fronts.
 
 void compute_fronts(Report& report) {
-  std::vector<size_t> candidates;
-  std::vector<TradeoffPoint> points;
-  for (size_t i : report.ok_runs()) {
-    auto time = report.runs[i].frame_ms();
-    auto value = report.runs[i].metric(report.primary);
-    if (!finite(time) || !finite(value)) continue;
-    candidates.push_back(i);
-    points.push_back({*time, *value});
-  }
+  report.fronts.assign(report.variants.size(), Fronts{});
   auto is_better = [&](double a, double b) { return better(report.primary, a, b); };
-  for (size_t f : pareto_front(points, is_better)) report.overall_front.push_back(candidates[f]);
-  for (const std::string& method : report.methods) {
-    std::vector<size_t> mine;
-    std::vector<TradeoffPoint> my_points;
-    for (size_t c = 0; c < candidates.size(); ++c) {
-      if (report.runs[candidates[c]].method != method) continue;
-      mine.push_back(candidates[c]);
-      my_points.push_back(points[c]);
+  for (size_t v = 0; v < report.variants.size(); ++v) {
+    Fronts& fronts = report.fronts[v];
+    std::vector<size_t> candidates;
+    std::vector<TradeoffPoint> points;
+    for (size_t i : report.ok_runs()) {
+      if (report.runs[i].variant_index != v) continue;
+      auto time = report.runs[i].frame_ms();
+      auto value = report.runs[i].metric(report.primary);
+      if (!finite(time) || !finite(value)) continue;
+      candidates.push_back(i);
+      points.push_back({*time, *value});
     }
-    if (mine.empty()) continue;
-    for (size_t f : pareto_front(my_points, is_better)) report.method_front[method].push_back(mine[f]);
+    for (size_t f : pareto_front(points, is_better)) fronts.overall.push_back(candidates[f]);
+    for (const std::string& method : report.methods) {
+      std::vector<size_t> mine;
+      std::vector<TradeoffPoint> my_points;
+      for (size_t c = 0; c < candidates.size(); ++c) {
+        if (report.runs[candidates[c]].method != method) continue;
+        mine.push_back(candidates[c]);
+        my_points.push_back(points[c]);
+      }
+      if (mine.empty()) continue;
+      for (size_t f : pareto_front(my_points, is_better)) fronts.per_method[method].push_back(mine[f]);
+    }
   }
 }
 
@@ -625,19 +733,21 @@ struct ReferenceFrame {
 
 void make_images(Report& report, std::set<std::string>& written) {
   fs::path images = report.folder / "report";
-  std::map<int64_t, ReferenceFrame> references;
-  auto reference_frame = [&](int64_t frame) -> ReferenceFrame& {
-    auto it = references.find(frame);
+  // Reference frames, keyed by (reference_key, frame): every run is compared with its own reference.
+  std::map<std::pair<std::string, int64_t>, ReferenceFrame> references;
+  auto reference_frame = [&](const std::string& key, int64_t frame) -> ReferenceFrame& {
+    auto it = references.find({key, frame});
     if (it != references.end()) return it->second;
-    ReferenceFrame& entry = references[frame];
-    if (report.reference_folder.empty()) {
+    ReferenceFrame& entry = references[{key, frame}];
+    if (key.empty()) {
       entry.error = "no reference";
       return entry;
     }
-    fs::path path = report.reference_folder / frame_file(frame);
+    fs::path folder = report.reference_folder(key);
+    fs::path path = folder / frame_file(frame);
     try {
       entry.image = read_exr(path.string());
-      entry.mean = masked_mean(entry.image, receiver_mask(report.reference_folder, frame, entry.image));
+      entry.mean = masked_mean(entry.image, receiver_mask(folder, frame, entry.image));
       entry.ok = true;
     } catch (const std::exception& failure) {
       entry.error = fmt::format("reference image {} unreadable: {}", path.string(), failure.what());
@@ -656,28 +766,39 @@ void make_images(Report& report, std::set<std::string>& written) {
     }
   }
 
-  // The reference first.
-  ReferenceFrame& first_reference = reference_frame(first_frame);
-  if (first_reference.ok) {
+  // The references first: one per variant ("reference.png" when there is one variant).
+  std::vector<std::string> scales;  // the error maps' saturation value of each variant
+  for (const Variant& variant : report.variants) {
+    ReferenceFrame& reference = reference_frame(variant.reference_key, first_frame);
+    if (!reference.ok) {
+      if (!variant.reference_key.empty())
+        report.notes.push_back((report.multi() ? "Variant " + variant.name + ": " : std::string()) + reference.error +
+                               ": thumbnails are exposed on their own mean and have no error maps.");
+      continue;
+    }
     Thumbnail thumb;
     thumb.reference = true;
-    thumb.title = "reference";
-    std::string passes = reference_field(report.reference, "passes").is_number()
-                             ? value_text(reference_field(report.reference, "passes")) + " passes"
+    thumb.title = report.multi() ? "reference " + variant.name : "reference";
+    std::string passes = reference_field(variant.reference, "passes").is_number()
+                             ? value_text(reference_field(variant.reference, "passes")) + " passes"
                              : "";
     thumb.caption = fmt::format("frame {}{}{}", first_frame, passes.empty() ? "" : " \u00b7 " + passes,
-                                report.noise_floor ? " \u00b7 noise floor " + num(*report.noise_floor) : "");
-    thumb.ec_png = "reference.png";
-    float exposure = first_reference.mean > 0.0 ? static_cast<float>(kMiddleGrey / first_reference.mean) : 1.0f;
-    write_thumbnail(first_reference.image, images / thumb.ec_png, exposure);
+                                variant.noise_floor ? " \u00b7 noise floor " + num(*variant.noise_floor) : "");
+    thumb.ec_png = report.multi() ? "reference_" + file_safe(variant.name) + ".png" : "reference.png";
+    for (size_t n = 2; written.count(thumb.ec_png); ++n)
+      thumb.ec_png = fmt::format("reference_{}_{}.png", file_safe(variant.name), n);
+    float exposure = reference.mean > 0.0 ? static_cast<float>(kMiddleGrey / reference.mean) : 1.0f;
+    write_thumbnail(reference.image, images / thumb.ec_png, exposure);
     written.insert(thumb.ec_png);
     report.thumbnails.push_back(thumb);
-    report.error_scale_text = fmt::format("{} \u00d7 reference mean = {} W/m\u00b2", num(kErrorScale),
-                                          num(kErrorScale * first_reference.mean));
-  } else if (!report.reference_folder.empty()) {
-    report.notes.push_back(first_reference.error +
-                           ": thumbnails are exposed on their own mean and have no "
-                           "error maps.");
+    scales.push_back((report.multi() ? variant.name + " " : std::string()) + num(kErrorScale * reference.mean) +
+                     " W/m\u00b2");
+  }
+  if (scales.size() == 1 && !report.multi()) {
+    report.error_scale_text = fmt::format("{} \u00d7 reference mean = {}", num(kErrorScale), scales.front());
+  } else if (!scales.empty()) {
+    report.error_scale_text =
+        fmt::format("{} \u00d7 the mean of the run's own reference ({})", num(kErrorScale), join(scales, ", "));
   }
 
   // Runs grouped by method, in their order.
@@ -686,7 +807,7 @@ void make_images(Report& report, std::set<std::string>& written) {
       const Run& run = report.runs[i];
       if (run.method != method) continue;
       Thumbnail thumb;
-      thumb.title = run.label;
+      thumb.title = report.display(i);
       auto value = run.metric(report.primary);
       auto time = run.frame_ms();
       thumb.caption = fmt::format("{} {}{}", report.primary, value ? num(*value) : "\u2014",
@@ -703,7 +824,7 @@ void make_images(Report& report, std::set<std::string>& written) {
       fs::path path = report.folder / "runs" / run.key / image_name;
       try {
         Image image = read_exr(path.string());
-        ReferenceFrame& reference = reference_frame(frame);
+        ReferenceFrame& reference = reference_frame(run.reference_key, frame);
         double mean = reference.ok ? reference.mean : masked_mean(image, lit_mask(image));
         float exposure = mean > 0.0 ? static_cast<float>(kMiddleGrey / mean) : 1.0f;
         std::string stem = file_safe(run.key);
@@ -803,20 +924,51 @@ json run_row(const Report& report, size_t i) {
   const Run& run = report.runs[i];
   json row = {{"key", run.key},
               {"method", run.method},
-              {"label", run.label},
+              {"label", report.display(i)},
               {"knobs", run.swept_text()},
               {"frame_ms", run.frame_ms().value_or(NAN)},
               {"value", run.metric(report.primary).value_or(NAN)},
               {"front", report.on_front(i)}};
+  if (report.multi()) {
+    row["variant"] = run.variant;
+    row["series"] = run.variant + " " + run.method;
+  }
   return row;
 }
 
 json tooltip(const Report& report) {
-  return json::array({{{"field", "label"}, {"title", "run"}},
-                      {{"field", "method"}},
-                      {{"field", "knobs"}, {"title", "swept"}},
-                      {{"field", "frame_ms"}, {"title", "frame ms (median)"}, {"format", ".4g"}},
-                      {{"field", "value"}, {"title", report.primary}, {"format", ".4g"}}});
+  json fields = json::array({{{"field", "label"}, {"title", "run"}},
+                             {{"field", "method"}},
+                             {{"field", "knobs"}, {"title", "swept"}},
+                             {{"field", "frame_ms"}, {"title", "frame ms (median)"}, {"format", ".4g"}},
+                             {{"field", "value"}, {"title", report.primary}, {"format", ".4g"}}});
+  if (report.multi()) fields.insert(fields.begin() + 2, json{{"field", "variant"}});
+  return fields;
+}
+
+// The reference noise floor rules of the error plots (primary metric relMSE only): one per variant whose
+// reference has a positive floor, labelled with the variant's name when there are several. The floors
+// are appended to `values` (for the choice of a log axis).
+std::vector<json> floor_layers(const Report& report, const std::string& field, std::vector<double>& values) {
+  std::vector<json> layers;
+  if (report.primary != "relmse") return layers;
+  for (const Variant& variant : report.variants) {
+    if (!finite(variant.noise_floor) || !(*variant.noise_floor > 0.0)) continue;
+    double floor = *variant.noise_floor;
+    values.push_back(floor);
+    std::string text = report.multi() ? fmt::format("reference noise floor {} {}", variant.name, num(floor))
+                                      : "reference noise floor " + num(floor);
+    for (json& layer : rule_layers(field, floor, text, "#666")) layers.push_back(layer);
+  }
+  return layers;
+}
+
+// Points of several variants are told apart by their shape.
+void add_variant_shape(const Report& report, json& encoding) {
+  if (!report.multi()) return;
+  json names = json::array();
+  for (const Variant& variant : report.variants) names.push_back(variant.name);
+  encoding["shape"] = {{"field", "variant"}, {"type", "nominal"}, {"title", "variant"}, {"scale", {{"domain", names}}}};
 }
 
 void make_tradeoff_plot(Report& report) {
@@ -831,33 +983,37 @@ void make_tradeoff_plot(Report& report) {
     values.push_back(*value);
   }
   if (plotted.empty()) return;
-  bool relmse = report.primary == "relmse";
-  bool floor = relmse && finite(report.noise_floor) && *report.noise_floor > 0.0;
-  if (floor) values.push_back(*report.noise_floor);
+  std::vector<json> floors = floor_layers(report, "value", values);
   bool log_x = all_positive(times), log_y = all_positive(values);
 
+  // Fronts are computed within each variant: one line per (variant, method), one band per variant.
   json front_points = json::array(), dominated = json::array(), front_lines = json::array(), overall = json::array();
   for (size_t i : plotted) (report.on_front(i) ? front_points : dominated).push_back(run_row(report, i));
-  for (const auto& [method, front] : report.method_front) {
+  for (const Fronts& fronts : report.fronts) {
+    for (const auto& [method, front] : fronts.per_method) {
+      int order = 0;
+      for (size_t i : front) {
+        json row = run_row(report, i);
+        row["order"] = order++;
+        front_lines.push_back(row);
+      }
+    }
+    if (fronts.overall.size() < 2) continue;
     int order = 0;
-    for (size_t i : front) {
+    for (size_t i : fronts.overall) {
       json row = run_row(report, i);
       row["order"] = order++;
-      front_lines.push_back(row);
+      overall.push_back(row);
     }
-  }
-  int order = 0;
-  for (size_t i : report.overall_front) {
-    json row = run_row(report, i);
-    row["order"] = order++;
-    overall.push_back(row);
   }
 
   std::string y_title = fmt::format("{} ({}{})", report.primary, direction_text(report.primary), log_y ? ", log" : "");
   json x = axis("frame_ms", std::string("frame time, median ms") + (log_x ? " (log)" : ""), log_x);
   json y = axis("value", y_title, log_y);
   json layers = json::array();
-  if (overall.size() >= 2) {
+  if (!overall.empty()) {
+    json band = {{"x", x}, {"y", y}, {"order", {{"field", "order"}}}};
+    if (report.multi()) band["detail"] = {{"field", "variant"}};
     layers.push_back({{"data", {{"values", overall}}},
                       {"mark",
                        {{"type", "line"},
@@ -866,52 +1022,61 @@ void make_tradeoff_plot(Report& report) {
                         {"strokeWidth", 9},
                         {"strokeCap", "round"},
                         {"strokeJoin", "round"}}},
-                      {"encoding", {{"x", x}, {"y", y}, {"order", {{"field", "order"}}}}}});
+                      {"encoding", band}});
   }
+  json lines = {{"x", x}, {"y", y}, {"color", method_colour(report)}, {"order", {{"field", "order"}}}};
+  if (report.multi()) lines["detail"] = {{"field", "series"}};
   layers.push_back(
-      {{"data", {{"values", front_lines}}},
-       {"mark", {{"type", "line"}, {"strokeWidth", 2}}},
-       {"encoding", {{"x", x}, {"y", y}, {"color", method_colour(report)}, {"order", {{"field", "order"}}}}}});
+      {{"data", {{"values", front_lines}}}, {"mark", {{"type", "line"}, {"strokeWidth", 2}}}, {"encoding", lines}});
+  json points = {{"x", x}, {"y", y}, {"color", method_colour(report)}, {"tooltip", tooltip(report)}};
+  add_variant_shape(report, points);
   if (!dominated.empty()) {
-    layers.push_back(
-        {{"data", {{"values", dominated}}},
-         {"mark", {{"type", "point"}, {"filled", false}, {"size", 60}, {"strokeWidth", 1.5}}},
-         {"encoding", {{"x", x}, {"y", y}, {"color", method_colour(report)}, {"tooltip", tooltip(report)}}}});
+    layers.push_back({{"data", {{"values", dominated}}},
+                      {"mark", {{"type", "point"}, {"filled", false}, {"size", 60}, {"strokeWidth", 1.5}}},
+                      {"encoding", points}});
   }
-  layers.push_back(
-      {{"data", {{"values", front_points}}},
-       {"mark", {{"type", "point"}, {"filled", true}, {"size", 80}, {"opacity", 1}}},
-       {"encoding", {{"x", x}, {"y", y}, {"color", method_colour(report)}, {"tooltip", tooltip(report)}}}});
-  if (floor) {
-    for (json& layer :
-         rule_layers("value", *report.noise_floor, "reference noise floor " + num(*report.noise_floor), "#666"))
-      layers.push_back(layer);
-  }
+  layers.push_back({{"data", {{"values", front_points}}},
+                    {"mark", {{"type", "point"}, {"filled", true}, {"size", 80}, {"opacity", 1}}},
+                    {"encoding", points}});
+  for (json& layer : floors) layers.push_back(layer);
   json spec = base_spec(fmt::format("Trade-off: {} versus frame time", report.primary),
-                        "each point one run; filled = on its method's Pareto front, hollow = dominated; "
-                        "grey band = front over all methods");
+                        report.multi() ? "each point one run, shape = scene variant; filled = on its method's Pareto "
+                                         "front within its variant, hollow = dominated; grey bands = fronts over all "
+                                         "methods"
+                                       : "each point one run; filled = on its method's Pareto front, hollow = "
+                                         "dominated; grey band = front over all methods");
   spec["layer"] = layers;
   std::string caption = fmt::format(
       "x: median frame time (update + render) over the repetitions; y: {} against the reference (mean over the "
       "frames). A run is on its method's front when no run of that method is at least as fast and at least as "
       "good ({}) and strictly better in one of the two.",
       report.primary, direction_text(report.primary));
-  if (floor) caption += " Below the dashed noise floor the reference cannot tell errors apart.";
+  if (report.multi())
+    caption +=
+        " Fronts are computed within each scene variant: a run competes only with runs of its own variant, each "
+        "measured against its own reference.";
+  if (!floors.empty())
+    caption += report.multi() ? " Below a variant's dashed noise floor its reference cannot tell errors apart."
+                              : " Below the dashed noise floor the reference cannot tell errors apart.";
   report.plots.push_back({"plot-tradeoff", caption, spec});
 }
 
 void make_convergence_plot(Report& report) {
+  // One line per variant's reference (a plain experiment has one).
   json rows = json::array();
   std::vector<double> seconds, floors;
-  for (const json& entry : report.history) {
-    auto s = number(entry, "seconds"), f = number(entry, "noise_floor");
-    if (!finite(s) || !finite(f)) continue;
-    json row = {{"seconds", *s}, {"noise_floor", *f}};
-    if (entry.contains("pass")) row["pass"] = entry["pass"];
-    if (entry.contains("photons")) row["photons"] = entry["photons"];
-    rows.push_back(row);
-    seconds.push_back(*s);
-    floors.push_back(*f);
+  for (const Variant& variant : report.variants) {
+    for (const json& entry : variant.history) {
+      auto s = number(entry, "seconds"), f = number(entry, "noise_floor");
+      if (!finite(s) || !finite(f)) continue;
+      json row = {{"seconds", *s}, {"noise_floor", *f}};
+      if (entry.contains("pass")) row["pass"] = entry["pass"];
+      if (entry.contains("photons")) row["photons"] = entry["photons"];
+      if (report.multi()) row["variant"] = variant.name;
+      rows.push_back(row);
+      seconds.push_back(*s);
+      floors.push_back(*f);
+    }
   }
   if (rows.empty()) return;
   // The best relMSE any method reached: the floor must sit well below it.
@@ -922,7 +1087,7 @@ void make_convergence_plot(Report& report) {
     if (!finite(value)) continue;
     if (!best || better("relmse", *value, *best)) {
       best = *value;
-      best_label = report.runs[i].label;
+      best_label = report.display(i);
     }
   }
   std::vector<double> all = floors;
@@ -935,10 +1100,22 @@ void make_convergence_plot(Report& report) {
                           {{"field", "seconds"}, {"format", ".4g"}},
                           {{"field", "noise_floor"}, {"title", "noise floor"}, {"format", ".4g"}}});
   json layers = json::array();
-  layers.push_back(
-      {{"data", {{"values", rows}}},
-       {"mark", {{"type", "line"}, {"point", {{"filled", true}, {"size", 30}, {"color", "#333"}}}, {"color", "#333"}}},
-       {"encoding", {{"x", x}, {"y", y}, {"tooltip", tip}}}});
+  if (report.multi()) {
+    tip.insert(tip.begin(), json{{"field", "variant"}});
+    layers.push_back({{"data", {{"values", rows}}},
+                      {"mark", {{"type", "line"}, {"point", {{"filled", true}, {"size", 30}}}}},
+                      {"encoding",
+                       {{"x", x},
+                        {"y", y},
+                        {"color", {{"field", "variant"}, {"type", "nominal"}, {"title", "variant"}, {"sort", nullptr}}},
+                        {"tooltip", tip}}}});
+  } else {
+    layers.push_back(
+        {{"data", {{"values", rows}}},
+         {"mark",
+          {{"type", "line"}, {"point", {{"filled", true}, {"size", 30}, {"color", "#333"}}}, {"color", "#333"}}},
+         {"encoding", {{"x", x}, {"y", y}, {"tooltip", tip}}}});
+  }
   if (best) {
     for (json& layer :
          rule_layers("noise_floor", *best, "best method relMSE " + num(*best) + " (" + best_label + ")", "#e45756"))
@@ -947,12 +1124,12 @@ void make_convergence_plot(Report& report) {
   json spec = base_spec("Reference convergence: noise floor versus time",
                         "relMSE of the reference estimated from two independent halves, after each pass");
   spec["layer"] = layers;
-  report.plots.push_back(
-      {"plot-convergence",
-       "The reference's estimated relMSE (its noise floor) after each progressive pass, against the seconds it "
-       "had run. Metrics below the floor are not resolved; the red rule is the best relMSE any method reached "
-       "in this experiment.",
-       spec});
+  std::string caption =
+      "The reference's estimated relMSE (its noise floor) after each progressive pass, against the seconds it "
+      "had run. Metrics below the floor are not resolved; the red rule is the best relMSE any method reached "
+      "in this experiment.";
+  if (report.multi()) caption += " One line per scene variant's reference; the rule is the best over all variants.";
+  report.plots.push_back({"plot-convergence", caption, spec});
 }
 
 void make_sweep_plots(Report& report) {
@@ -967,7 +1144,6 @@ void make_sweep_plots(Report& report) {
     for (const auto& [name, values] : seen)
       if (values.size() >= 2) knobs[name].insert(method);
   }
-  bool floor = report.primary == "relmse" && finite(report.noise_floor) && *report.noise_floor > 0.0;
   for (const auto& [knob, methods] : knobs) {
     std::vector<size_t> runs;
     bool numeric = true;
@@ -984,7 +1160,7 @@ void make_sweep_plots(Report& report) {
       values.push_back(*run.metric(report.primary));
     }
     if (runs.size() < 2) continue;
-    if (floor) values.push_back(*report.noise_floor);
+    std::vector<json> floors = floor_layers(report, "value", values);
     bool log_x = false;
     if (numeric) {
       auto [low, high] = std::minmax_element(xs.begin(), xs.end());
@@ -998,6 +1174,7 @@ void make_sweep_plots(Report& report) {
       json others = json::object();
       for (const auto& [name, value] : run.swept().items())
         if (name != knob) others[name] = value;
+      if (report.multi() && knob != "variant") others["variant"] = run.variant;  // one line per variant
       std::string others_text = knobs_text(others);
       if (others_text.empty()) others_text = "\u2014";
       others_seen.insert(run.method + "|" + others_text);
@@ -1026,11 +1203,7 @@ void make_sweep_plots(Report& report) {
     layers.push_back({{"data", {{"values", rows}}},
                       {"mark", {{"type", "point"}, {"filled", true}, {"size", 50}}},
                       {"encoding", {{"x", x}, {"y", y}, {"color", method_colour(report, methods)}, {"tooltip", tip}}}});
-    if (floor) {
-      for (json& layer :
-           rule_layers("value", *report.noise_floor, "reference noise floor " + num(*report.noise_floor), "#666"))
-        layers.push_back(layer);
-    }
+    for (json& layer : floors) layers.push_back(layer);
     std::vector<std::string> method_list(methods.begin(), methods.end());
     json spec = base_spec(fmt::format("{} versus {}", report.primary, knob),
                           fmt::format("swept by {}; one line per method{}", join(method_list, ", "),
@@ -1070,6 +1243,13 @@ Table results_table(const Report& report) {
   Table table;
   table.header = {"method", "label", "swept knobs"};
   table.header_notes = {"", "", ""};
+  if (report.multi()) {
+    table.header.insert(table.header.end(), {"variant", "receiver pixels"});
+    table.header_notes.insert(table.header_notes.end(),
+                              {"the scene variant (experiment.json \"variants\"); the run is compared with its "
+                               "reference, and best values and fronts are per variant",
+                               "receiver pixels of the G-buffer in the run's first frame"});
+  }
   for (const std::string& metric : report.metrics) {
     table.header.push_back(metric + " " + direction_arrow(metric));
     const MetricInfo* info = metric_info(metric);
@@ -1089,29 +1269,38 @@ Table results_table(const Report& report) {
     for (size_t i : report.ok_runs())
       if (report.runs[i].method == method) rows.push_back(i);
 
-  // The best value of each metric column (ties all marked), and the fastest frame.
-  std::map<std::string, double> best;
+  // The best value of each metric column (ties all marked), and the fastest frame, within each variant.
+  std::vector<std::map<std::string, double>> bests(report.variants.size());
   for (const std::string& metric : report.metrics) {
     for (size_t i : rows) {
       auto value = report.runs[i].metric(metric);
       if (!finite(value)) continue;
+      std::map<std::string, double>& best = bests[report.runs[i].variant_index];
       if (!best.count(metric) || better(metric, *value, best[metric])) best[metric] = *value;
     }
   }
-  std::optional<double> fastest;
+  std::vector<std::optional<double>> fastests(report.variants.size());
   for (size_t i : rows) {
     auto time = report.runs[i].frame_ms();
+    std::optional<double>& fastest = fastests[report.runs[i].variant_index];
     if (finite(time) && (!fastest || *time < *fastest)) fastest = *time;
   }
 
   for (size_t i : rows) {
     const Run& run = report.runs[i];
+    std::map<std::string, double>& best = bests[run.variant_index];
+    const std::optional<double>& fastest = fastests[run.variant_index];
     std::vector<Cell> row;
     std::string label = run.label;
     if (report.on_overall_front(i)) label += " \u25c6";
     row.push_back({run.method});
     row.push_back({label});
     row.push_back({run.swept_text()});
+    if (report.multi()) {
+      row.push_back({run.variant});
+      const json& pixels = run.receiver_pixels();
+      row.push_back({pixels.is_number() ? value_text(pixels) : "\u2014", false, true});
+    }
     for (const std::string& metric : report.metrics) {
       auto value = run.metric(metric);
       Cell cell{value ? num(*value) : "\u2014", false, true};
@@ -1140,11 +1329,14 @@ Table results_table(const Report& report) {
 Table failed_table(const Report& report) {
   Table table;
   table.header = {"method", "label", "swept knobs", "status", "error"};
+  if (report.multi()) table.header.insert(table.header.begin() + 3, "variant");
   table.header_notes.assign(table.header.size(), "");
   for (const Run& run : report.runs) {
     if (run.ok) continue;
-    table.rows.push_back(
-        {{run.method}, {run.label}, {run.swept_text()}, {run.status}, {run.error, false, false, true}});
+    std::vector<Cell> row = {
+        {run.method}, {run.label}, {run.swept_text()}, {run.status}, {run.error, false, false, true}};
+    if (report.multi()) row.insert(row.begin() + 3, Cell{run.variant});
+    table.rows.push_back(row);
   }
   return table;
 }
@@ -1171,6 +1363,10 @@ bool matches(const Run& run, const json& row) {
   const json& match = member(row, "match");
   if (!match.is_object()) return true;
   for (const auto& [name, wanted] : match.items()) {
+    if (name == "variant") {  // the run's scene variant
+      if (run.variant != value_text(wanted)) return false;
+      continue;
+    }
     const json& build = member(member(run.record, "build"), name);
     const json& render = member(member(run.record, "render"), name);
     const json& found = build.is_null() ? render : build;
@@ -1194,18 +1390,19 @@ Table paper_table(const Report& report) {
   table.header.push_back("note");
   table.header_notes.assign(table.header.size(), "");
   for (const json& row : member(paper, "rows")) {
-    std::vector<const Run*> found;
-    for (const Run& run : report.runs)
-      if (matches(run, row)) found.push_back(&run);
-    if (found.empty()) found.push_back(nullptr);
-    for (const Run* run : found) {
+    std::vector<size_t> found;
+    for (size_t i = 0; i < report.runs.size(); ++i)
+      if (matches(report.runs[i], row)) found.push_back(i);
+    if (found.empty()) found.push_back(report.runs.size());
+    for (size_t index : found) {
+      const Run* run = index < report.runs.size() ? &report.runs[index] : nullptr;
       std::vector<Cell> cells = {{string_member(row, "method")}, {knobs_text(member(row, "match"))}};
       if (!run)
         cells.push_back({"not run", false, false, true});
       else if (!run->ok)
-        cells.push_back({run->label + " (failed: " + run->error + ")", false, false, true});
+        cells.push_back({report.display(index) + " (failed: " + run->error + ")", false, false, true});
       else
-        cells.push_back({run->label});
+        cells.push_back({report.display(index)});
       for (const std::string& column : columns) {
         const json& paper_value = member(member(row, "values"), column);
         cells.push_back(
@@ -1252,11 +1449,14 @@ std::string claim_direction(const std::string& name) {
   return is_claim_quantity(name) ? "lower is better" : direction_text(name);
 }
 
-// The run's resolved knobs, build then render (as record_matches_filter sees them).
+// The run's resolved knobs, build then render, plus its "variant" and "receiver_pixels" when the record
+// has them (as record_matches_filter sees them).
 json run_knobs(const Run& run) {
   json knobs = json::object();
   for (const char* phase : {"build", "render"})
     if (member(run.record, phase).is_object()) knobs.update(member(run.record, phase));
+  for (const char* field : {"variant", "receiver_pixels"})
+    if (!member(run.record, field).is_null()) knobs[field] = member(run.record, field);
   return knobs;
 }
 
@@ -1387,10 +1587,14 @@ void evaluate_linear(const Report& report, ClaimResult& result) {
     ys.push_back(*y_value);
   }
   result.points = runs.size();
-  // Group by every other knob (and the method) whose value differs between the runs.
+  // Group by every other knob (and the method) whose value differs between the runs. receiver_pixels is
+  // measured, not set, so it never groups; nor does the variant when x is receiver_pixels (the variants
+  // are what makes x vary).
   std::set<std::string> names;
   for (const json& k : knobs)
     for (const auto& [name, value] : k.items()) names.insert(name);
+  names.erase("receiver_pixels");
+  if (x == "receiver_pixels") names.erase("variant");
   for (const std::string& name : names) {
     std::set<std::string> values;
     for (const json& k : knobs) values.insert(member(k, name).dump());
@@ -1482,7 +1686,7 @@ std::string claim_evidence(const Report& report, const ClaimResult& result, Form
   const json& claim = result.claim;
   std::string quantity = escaped(result.quantity, format);
   auto point = [&](const ClaimPoint& p) {
-    return escaped(report.runs[p.run].label, format) + " (" + quantity + " " + num(p.value) + ")";
+    return escaped(report.display(p.run), format) + " (" + quantity + " " + num(p.value) + ")";
   };
   std::string direction = quantity + ": " + escaped(claim_direction(result.quantity), format) + ".";
   if (result.kind == "best") {
@@ -1543,7 +1747,9 @@ std::string claim_evidence(const Report& report, const ClaimResult& result, Form
 json claim_point_json(const Report& report, const std::optional<ClaimPoint>& point) {
   if (!point) return nullptr;
   const Run& run = report.runs[point->run];
-  return {{"key", run.key}, {"label", run.label}, {"value", point->value}};
+  json out = {{"key", run.key}, {"label", run.label}, {"value", point->value}};
+  if (report.multi()) out["variant"] = run.variant;
+  return out;
 }
 
 // The claim as experiment.json states it, with "verdict", "evidence" (plain text) and "details".
@@ -1638,20 +1844,39 @@ std::vector<std::pair<std::string, std::string>> experiment_facts(const Report& 
   };
   add("source", member(report.experiment, "source"));
   add("scene", member(report.experiment, "scene"));
-  const json& resolution = member(report.experiment, "resolution");
-  if (resolution.is_array() && resolution.size() == 2)
-    facts.push_back({"resolution", value_text(resolution[0]) + " x " + value_text(resolution[1])});
+  auto resolution_text = [](const json& resolution) {
+    return resolution.is_array() && resolution.size() == 2
+               ? value_text(resolution[0]) + " x " + value_text(resolution[1])
+               : std::string();
+  };
+  auto reference_text = [](const Variant& variant) {
+    std::string text = variant.reference_key;
+    if (variant.noise_floor) text += ", noise floor " + num(*variant.noise_floor);
+    const json& passes = reference_field(variant.reference, "passes");
+    if (passes.is_number()) text += ", " + value_text(passes) + " passes";
+    const json& seconds = reference_field(variant.reference, "seconds");
+    if (seconds.is_number()) text += ", " + num(seconds.get<double>()) + " s";
+    return text;
+  };
+  std::string resolution = resolution_text(member(report.experiment, "resolution"));
+  if (!report.multi() && !resolution.empty()) facts.push_back({"resolution", resolution});
   add("frames", member(report.experiment, "frames"));
   add("repetitions", member(report.experiment, "repetitions"));
   facts.push_back({"primary metric", report.primary + " (" + direction_text(report.primary) + ")"});
-  if (!report.reference_key.empty()) {
-    std::string text = report.reference_key;
-    if (report.noise_floor) text += ", noise floor " + num(*report.noise_floor);
-    const json& passes = reference_field(report.reference, "passes");
-    if (passes.is_number()) text += ", " + value_text(passes) + " passes";
-    const json& seconds = reference_field(report.reference, "seconds");
-    if (seconds.is_number()) text += ", " + num(seconds.get<double>()) + " s";
-    facts.push_back({"reference", text});
+  if (!report.multi()) {
+    if (!report.variants.front().reference_key.empty())
+      facts.push_back({"reference", reference_text(report.variants.front())});
+    return facts;
+  }
+  // Several variants: each with its resolution, overrides and reference.
+  for (const Variant& variant : report.variants) {
+    std::vector<std::string> parts;
+    if (!resolution_text(variant.resolution).empty()) parts.push_back(resolution_text(variant.resolution));
+    if (variant.overrides.is_object() && !variant.overrides.empty())
+      parts.push_back("overrides " + variant.overrides.dump());
+    if (!variant.listed) parts.push_back("not listed in experiment.json");
+    parts.push_back(variant.reference_key.empty() ? "no reference" : "reference " + reference_text(variant));
+    facts.push_back({"variant " + variant.name, join(parts, "; ")});
   }
   return facts;
 }
@@ -1659,43 +1884,51 @@ std::vector<std::pair<std::string, std::string>> experiment_facts(const Report& 
 // One-line findings at the top: best, fastest, overall front.
 std::vector<std::string> findings(const Report& report, bool html) {
   std::vector<std::string> lines;
-  auto name = [&](const Run& run) {
-    return html ? "<b>" + html_escape(run.label) + "</b>" : "**" + md_escape(run.label) + "**";
+  auto name = [&](size_t i) {
+    std::string label = report.display(i);
+    return html ? "<b>" + html_escape(label) + "</b>" : "**" + md_escape(label) + "**";
   };
   lines.push_back(fmt::format("{} runs: {} ok, {} failed{}.", report.runs.size() + report.missing.size(),
                               report.runs.size() - report.failed_count(), report.failed_count(),
                               report.missing.empty() ? "" : fmt::format(", {} not run yet", report.missing.size())));
   if (!report.claims.empty())
     lines.push_back(claims_count_text(report) + (html ? " See <a href=\"#claims\">Claims</a>." : " See Claims below."));
-  std::optional<size_t> best, fastest;
-  for (size_t i : report.ok_runs()) {
-    auto value = report.runs[i].metric(report.primary);
-    if (finite(value) && (!best || better(report.primary, *value, *report.runs[*best].metric(report.primary))))
-      best = i;
-    auto time = report.runs[i].frame_ms();
-    if (finite(time) && (!fastest || *time < *report.runs[*fastest].frame_ms())) fastest = i;
-  }
   auto describe = [&](size_t i) {
     const Run& run = report.runs[i];
     auto value = run.metric(report.primary);
     auto time = run.frame_ms();
-    return fmt::format("{} ({} {}, {} ms)", name(run), report.primary, value ? num(*value) : "\u2014",
+    return fmt::format("{} ({} {}, {} ms)", name(i), report.primary, value ? num(*value) : "\u2014",
                        time ? num(*time) : "\u2014");
   };
-  if (best) lines.push_back("Best " + report.primary + ": " + describe(*best) + ".");
-  if (fastest) lines.push_back("Fastest frame: " + describe(*fastest) + ".");
-  if (!report.overall_front.empty()) {
-    std::vector<std::string> steps;
-    for (size_t i : report.overall_front) steps.push_back(describe(i));
-    lines.push_back("Pareto front over all methods (fastest first, \u25c6 in the table): " + join(steps, " \u2192 ") +
-                    ".");
-  }
-  if (best && report.primary == "relmse" && report.noise_floor && *report.noise_floor > 0.0) {
-    double value = *report.runs[*best].metric(report.primary);
-    double ratio = value / *report.noise_floor;
-    lines.push_back(fmt::format("The reference's noise floor {} is {} the best relMSE ({}\u00d7 below it).",
-                                num(*report.noise_floor), ratio >= 10.0 ? "well below" : "NOT well below",
-                                fmt::format("{:.3g}", ratio)));
+  // One set of lines per variant (best, fastest, front and noise floor compare runs of one variant only).
+  for (size_t v = 0; v < report.variants.size(); ++v) {
+    const Variant& variant = report.variants[v];
+    std::string in = report.multi() ? " (variant " + variant.name + ")" : "";
+    std::optional<size_t> best, fastest;
+    for (size_t i : report.ok_runs()) {
+      if (report.runs[i].variant_index != v) continue;
+      auto value = report.runs[i].metric(report.primary);
+      if (finite(value) && (!best || better(report.primary, *value, *report.runs[*best].metric(report.primary))))
+        best = i;
+      auto time = report.runs[i].frame_ms();
+      if (finite(time) && (!fastest || *time < *report.runs[*fastest].frame_ms())) fastest = i;
+    }
+    if (best) lines.push_back("Best " + report.primary + in + ": " + describe(*best) + ".");
+    if (fastest) lines.push_back("Fastest frame" + in + ": " + describe(*fastest) + ".");
+    const std::vector<size_t>& overall = report.fronts[v].overall;
+    if (!overall.empty()) {
+      std::vector<std::string> steps;
+      for (size_t i : overall) steps.push_back(describe(i));
+      lines.push_back("Pareto front over all methods" + in +
+                      " (fastest first, \u25c6 in the table): " + join(steps, " \u2192 ") + ".");
+    }
+    if (best && report.primary == "relmse" && variant.noise_floor && *variant.noise_floor > 0.0) {
+      double value = *report.runs[*best].metric(report.primary);
+      double ratio = value / *variant.noise_floor;
+      lines.push_back(fmt::format("The reference's noise floor{} {} is {} the best relMSE ({}\u00d7 below it).", in,
+                                  num(*variant.noise_floor), ratio >= 10.0 ? "well below" : "NOT well below",
+                                  fmt::format("{:.3g}", ratio)));
+    }
   }
   return lines;
 }
@@ -1766,7 +1999,9 @@ std::string markdown(const Report& report) {
   else {
     out +=
         "Bold: best of its column (for metrics the direction is in the header: \u2193 lower is better, "
-        "\u2191 higher, \u2192x closest to x); \u25c6: on the Pareto front over all methods.\n\n";
+        "\u2191 higher, \u2192x closest to x); \u25c6: on the Pareto front over all methods.";
+    if (report.multi()) out += " With several scene variants, best values and fronts are within each variant.";
+    out += "\n\n";
     markdown_table(out, results);
   }
   Table failed = failed_table(report);
@@ -1785,9 +2020,10 @@ std::string markdown(const Report& report) {
   if (!report.thumbnails.empty()) {
     out += "## Images\n\n";
     out += fmt::format(
-        "E_c tone-mapped so that the reference's mean is {} grey; error = |test \u2212 reference| "
+        "E_c tone-mapped so that the reference's mean is {} grey{}; error = |test \u2212 reference| "
         "luminance, black = 0, yellow = {} or more.\n\n",
-        kMiddleGrey, report.error_scale_text.empty() ? "max" : report.error_scale_text);
+        kMiddleGrey, report.multi() ? " (each run exposed like, and compared with, its own variant's reference)" : "",
+        report.error_scale_text.empty() ? "max" : report.error_scale_text);
     out += "| run | E_c | error | |\n|---|---|---|---|\n";
     for (const Thumbnail& thumb : report.thumbnails) {
       out += "| " + md_escape(thumb.title) + " | ";
@@ -1947,7 +2183,12 @@ std::string html(const Report& report) {
     out +=
         "<p class=\"caption\">Green: best of its column (metric direction in the header: \u2193 lower is better, "
         "\u2191 higher, \u2192x closest to x; hover a header for its definition). \u25c6: on the Pareto front over "
-        "all methods. Timings are over the repetitions after one warm-up; metrics are means over frames.</p>\n";
+        "all methods. Timings are over the repetitions after one warm-up; metrics are means over frames.";
+    if (report.multi())
+      out +=
+          " With several scene variants, best values and fronts are within each variant (a run competes "
+          "only with runs of its own variant).";
+    out += "</p>\n";
   }
   Table failed = failed_table(report);
   if (!failed.rows.empty()) {
@@ -1979,9 +2220,11 @@ std::string html(const Report& report) {
     out += "<h2 id=\"images\">Images (first frame)</h2>\n";
     out += fmt::format(
         "<p class=\"caption\">Left: E<sub>c</sub>, exposed so that the reference's mean over the receiver "
-        "pixels is {} (same exposure for every run), sRGB. Right: |test \u2212 reference| as luminance, "
-        "clamped before resizing.</p>\n",
-        kMiddleGrey);
+        "pixels is {} ({}), sRGB. Right: |test \u2212 reference| as luminance, clamped before resizing.</p>\n",
+        kMiddleGrey,
+        report.multi() ? "one reference per scene variant; every run is exposed like, and compared with, the "
+                         "reference of its own variant"
+                       : "same exposure for every run");
     if (!report.error_scale_text.empty()) {
       out += "<div class=\"bar\">error 0 <img src=\"report/error_colour_bar.png\" alt=\"inferno colour scale\"> " +
              html_escape(report.error_scale_text) + " or more</div>\n";
@@ -2051,7 +2294,8 @@ std::string csv(const Report& report) {
     collect(member(run.record, "timings"), timings);
     collect(member(run.record, "counters"), counters);
   }
-  std::vector<std::string> header = {"key", "status", "method", "label", "error", "swept"};
+  std::vector<std::string> header = {"key",   "status", "method",  "label",
+                                     "error", "swept",  "variant", "receiver_pixels"};
   for (const auto& name : build) header.push_back("build." + name);
   for (const auto& name : render) header.push_back("render." + name);
   for (const auto& name : metrics) header.push_back(name);
@@ -2068,8 +2312,14 @@ std::string csv(const Report& report) {
     std::vector<std::string> swept;
     if (run.swept().is_object())
       for (const auto& [name, value] : run.swept().items()) swept.push_back(name);
-    std::vector<std::string> cells = {csv_cell(run.key),   csv_cell(run.status), csv_cell(run.method),
-                                      csv_cell(run.label), csv_cell(run.error),  csv_cell(join(swept, ";"))};
+    std::vector<std::string> cells = {csv_cell(run.key),
+                                      csv_cell(run.status),
+                                      csv_cell(run.method),
+                                      csv_cell(run.label),
+                                      csv_cell(run.error),
+                                      csv_cell(join(swept, ";")),
+                                      csv_value(member(run.record, "variant")),
+                                      csv_value(run.receiver_pixels())};
     for (const auto& name : build) cells.push_back(csv_value(member(member(run.record, "build"), name)));
     for (const auto& name : render) cells.push_back(csv_value(member(member(run.record, "render"), name)));
     for (const auto& name : metrics) cells.push_back(csv_value(member(member(run.record, "metrics"), name)));
@@ -2084,26 +2334,53 @@ std::string csv(const Report& report) {
 }
 
 std::string results_json(const Report& report) {
+  // The records as stored, with the variant and reference each was compared with filled in when an older
+  // record lacks them (receiver_pixels then null).
   json runs = json::array();
-  for (const Run& run : report.runs) runs.push_back(run.record);
-  json fronts = json::object();
-  for (const auto& [method, front] : report.method_front) {
-    json keys = json::array();
-    for (size_t i : front) keys.push_back(report.runs[i].key);
-    fronts[method] = keys;
+  for (const Run& run : report.runs) {
+    json record = run.record;
+    if (!record.contains("variant")) record["variant"] = run.variant;
+    if (!record.contains("reference_key")) record["reference_key"] = run.reference_key;
+    if (!record.contains("receiver_pixels")) record["receiver_pixels"] = nullptr;
+    runs.push_back(record);
   }
-  json overall = json::array();
-  for (size_t i : report.overall_front) overall.push_back(report.runs[i].key);
+  auto keys = [&](const std::vector<size_t>& indices) {
+    json out = json::array();
+    for (size_t i : indices) out.push_back(report.runs[i].key);
+    return out;
+  };
+  // Fronts are computed within each variant; "overall" and "per_method" list every variant's, in order.
+  json fronts = json::object(), per_variant = json::object(), variants = json::array();
+  for (size_t v = 0; v < report.variants.size(); ++v) {
+    const Variant& variant = report.variants[v];
+    json methods = json::object();
+    for (const auto& [method, front] : report.fronts[v].per_method) {
+      methods[method] = keys(front);
+      if (!fronts.contains(method)) fronts[method] = json::array();
+      for (size_t i : front) fronts[method].push_back(report.runs[i].key);
+    }
+    per_variant[variant.name] = {{"overall", keys(report.fronts[v].overall)}, {"per_method", methods}};
+    variants.push_back({{"name", variant.name},
+                        {"reference_key", variant.reference_key},
+                        {"resolution", variant.resolution},
+                        {"overrides", variant.overrides},
+                        {"listed", variant.listed},
+                        {"noise_floor", variant.noise_floor ? json(*variant.noise_floor) : json(nullptr)},
+                        {"reference", variant.reference}});
+  }
+  const Variant& first = report.variants.front();
   json out = {{"experiment", report.experiment},
               {"environment", report.environment},
               {"runs", runs},
               {"missing_runs", report.missing},
-              {"reference", {{"key", report.reference_key}, {"record", report.reference}}},
+              {"reference", {{"key", first.reference_key}, {"record", first.reference}}},
+              {"variants", variants},
               {"pareto_front",
                {{"metric", report.primary},
                 {"time", "timings.frame_ms_median"},
-                {"overall", overall},
-                {"per_method", fronts}}}};
+                {"overall", keys(report.overall_fronts())},
+                {"per_method", fronts},
+                {"per_variant", per_variant}}}};
   json claims = json::array();
   for (const ClaimResult& result : report.claims) claims.push_back(claim_json(report, result));
   out["claims"] = claims;

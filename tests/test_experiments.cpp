@@ -8,6 +8,8 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -115,12 +117,12 @@ name: tiny
   for (const RunSpec& run : reordered.runs) keys_b.insert(run.key);
   EXPECT_EQ(keys_a, keys_b);
   EXPECT_EQ(keys_a.size(), 6u);
-  EXPECT_EQ(first.reference_key, reordered.reference_key);
+  EXPECT_EQ(first.variants.front().reference_key, reordered.variants.front().reference_key);
   // A different knob value is a different run.
   Experiment changed = load_experiment(folder.write("c.yaml", replace(kExperiment, "max_radius: 0.3", "max_radius: 0.4")));
   EXPECT_EQ(changed.runs.size(), 6u);
   EXPECT_EQ(keys_a.count(changed.runs[0].key), 0u);
-  EXPECT_EQ(first.reference_key, changed.reference_key);
+  EXPECT_EQ(first.variants.front().reference_key, changed.variants.front().reference_key);
 }
 
 TEST(Experiment, RejectsBadInputWithFileAndLine) {
@@ -149,6 +151,53 @@ TEST(Experiment, RejectsBadInputWithFileAndLine) {
   EXPECT_NE(message.find("frame index in 0 .. 0"), std::string::npos) << message;
   message = error_of(folder, replace(kExperiment, "repetitions: 1", "repetitions: 1\nmetrics: [rmse, psnrr]"));
   EXPECT_NE(message.find("did you mean 'psnr'"), std::string::npos) << message;
+}
+
+TEST(Experiment, VariantsMultiplyRunsWithTheirOwnReference) {
+  ExperimentFolder folder("experiment_variants");
+  Experiment plain = load_experiment(folder.write("plain.yaml", kExperiment));
+  ASSERT_EQ(plain.variants.size(), 1u);
+  EXPECT_EQ(plain.variants[0].name, "default");
+  std::string text = replace(kExperiment, "repetitions: 1", R"(repetitions: 1
+overrides: {camera: {fov_degrees: 40}}
+variants:
+  - {resolution: [16, 16]}
+  - {resolution: [32, 24]}
+  - {name: wide, camera: {fov_degrees: 60}})");
+  Experiment varied = load_experiment(folder.write("varied.yaml", text));
+  ASSERT_EQ(varied.variants.size(), 3u);
+  EXPECT_EQ(varied.variants[0].name, "16x16");
+  EXPECT_EQ(varied.variants[1].name, "32x24");
+  EXPECT_EQ(varied.variants[2].name, "wide");
+  // Each variant is the base overrides with its own on top.
+  EXPECT_EQ(varied.variants[1].scene.camera.width, 32);
+  EXPECT_EQ(varied.variants[1].scene.camera.height, 24);
+  EXPECT_DOUBLE_EQ(varied.variants[1].scene.camera.fov_degrees, 40.0);
+  EXPECT_DOUBLE_EQ(varied.variants[2].scene.camera.fov_degrees, 60.0);
+  EXPECT_EQ(varied.variants[2].scene.camera.width, 24);  // the scene's own resolution
+  // Every method entry runs on every variant, each with its own key and reference.
+  EXPECT_EQ(varied.runs.size(), 3 * plain.runs.size());
+  std::set<std::string> keys, references;
+  for (const RunSpec& run : varied.runs) keys.insert(run.key);
+  for (const SceneVariant& variant : varied.variants) references.insert(variant.reference_key);
+  EXPECT_EQ(keys.size(), varied.runs.size());
+  EXPECT_EQ(references.size(), 3u);
+  // A variant with no overrides of its own is the plain experiment: same keys, same reference.
+  Experiment same = load_experiment(folder.write("same.yaml", replace(kExperiment, "repetitions: 1", "repetitions: 1\nvariants: [{name: only}]")));
+  EXPECT_EQ(same.variants[0].reference_key, plain.variants[0].reference_key);
+  EXPECT_EQ(same.runs[0].key, plain.runs[0].key);
+  // Filters select by variant.
+  size_t wide = 0;
+  for (const RunSpec& run : varied.runs) wide += run_matches_filter(varied, run, "variant=wide,k=20") ? 1 : 0;
+  EXPECT_EQ(wide, 2u);
+  // Bad variants: an unknown key, two of the same name, an empty list.
+  std::string message = error_of(folder, replace(kExperiment, "repetitions: 1", "repetitions: 1\nvariants:\n  - {resolutoin: [8, 8]}"));
+  EXPECT_NE(message.find("bad.yaml:6:"), std::string::npos) << message;
+  EXPECT_NE(message.find("did you mean 'resolution'"), std::string::npos) << message;
+  message = error_of(folder, replace(kExperiment, "repetitions: 1", "repetitions: 1\nvariants:\n  - {resolution: [8, 8]}\n  - {resolution: [8, 8]}"));
+  EXPECT_NE(message.find("a second variant named '8x8'"), std::string::npos) << message;
+  message = error_of(folder, replace(kExperiment, "repetitions: 1", "repetitions: 1\nvariants: []"));
+  EXPECT_NE(message.find("a non-empty list"), std::string::npos) << message;
 }
 
 // Every shipped experiment file validates (scene, methods, knobs, paper block, claims).
@@ -182,7 +231,7 @@ TEST(Experiment, FilterSelectsByKnobMethodAndLabel) {
   Experiment experiment = load_experiment(folder.write("a.yaml", kExperiment));
   auto count = [&](const std::string& filter) {
     size_t n = 0;
-    for (const RunSpec& run : experiment.runs) n += run_matches_filter(run, filter) ? 1 : 0;
+    for (const RunSpec& run : experiment.runs) n += run_matches_filter(experiment, run, filter) ? 1 : 0;
     return n;
   };
   EXPECT_EQ(count("k=20"), 2u);
@@ -307,6 +356,32 @@ TEST(EndToEnd, TinyExperimentRunsAndReports) {
     EXPECT_TRUE(std::isfinite(relmse) && relmse > 0.0) << relmse;
     EXPECT_EQ(record["frames"][0]["render_ms"].size(), 1u);
   }
+  // Scene variants: each resolution gets its own reference, and every run records its variant, its
+  // reference and how many receiver pixels it shaded (which grows with the resolution).
+  std::string varied = folder.write("varied.yaml", replace(replace(std::string(kExperiment), "name: tiny", "name: varied"),
+                                                           "      k: [10, 20, 30]", "      k: [10]") +
+                                                       "variants: [{resolution: [12, 12]}, {resolution: [24, 24]}]\n");
+  code = run_command(std::string(CAUSTICBENCH_BINARY) + " run " + varied + " --results " + results, output);
+  ASSERT_EQ(code, 0) << output;
+  EXPECT_NE(output.find("4 run now, 0 failed"), std::string::npos) << output;
+  std::map<std::string, std::set<size_t>> receivers_by_variant;
+  std::set<std::string> reference_keys;
+  for (const auto& entry : fs::directory_iterator(results + "/varied/runs")) {
+    std::ifstream record_stream(entry.path() / "record.json");
+    nlohmann::json record = nlohmann::json::parse(record_stream);
+    ASSERT_EQ(record["status"], "ok") << record["error"];
+    receivers_by_variant[record["variant"].get<std::string>()].insert(record["receiver_pixels"].get<size_t>());
+    reference_keys.insert(record["reference_key"].get<std::string>());
+    EXPECT_TRUE(fs::is_regular_file(results + "/references/" + record["reference_key"].get<std::string>() + "/frame_0000.exr"));
+  }
+  ASSERT_EQ(receivers_by_variant.size(), 2u);
+  ASSERT_EQ(receivers_by_variant["12x12"].size(), 1u);
+  ASSERT_EQ(receivers_by_variant["24x24"].size(), 1u);
+  size_t small = *receivers_by_variant["12x12"].begin(), large = *receivers_by_variant["24x24"].begin();
+  EXPECT_GT(small, 0u);
+  EXPECT_NEAR(static_cast<double>(large) / small, 4.0, 0.5);  // receiver pixels scale with the pixel count
+  EXPECT_EQ(reference_keys.size(), 2u);
+
   // The reference cache is reused by a second experiment with the same scene and reference knobs.
   std::string second = folder.write("second.yaml", replace(std::string(kExperiment), "name: tiny", "name: second"));
   code = run_command(std::string(CAUSTICBENCH_BINARY) + " run " + second + " --results " + results + " --no-report", output);

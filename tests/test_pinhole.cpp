@@ -4,7 +4,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "core/image_statistics.h"
 #include "methods/pinhole/frame_data.h"
@@ -175,6 +178,58 @@ TEST(PinholeLightMap, CubeMapAndFilteredLatLongAgree) {
     Vec3 back = LightCubeMap::texel_direction(face, s / 64.0f, t / 64.0f);
     EXPECT_GT(glm::dot(back, direction), 0.99999f);
   }
+}
+
+TEST(PinholeLightMap, FilteredLookupsKeepACompactLightsIrradiance) {
+  // Fig. 4's 0.0008 sr light, anywhere on the sphere: on the lat-long seam (u = 0, where the ring
+  // scene's light sits; an OpenEXR texture lost a column there, 20 % of the light), towards the pole,
+  // and on the far side. Integrate the lookups over a square of the tangent plane around the light
+  // (dω = dA / |1 + x² + y²|^{3/2}); bilinear interpolation keeps the integral, so it must equal the
+  // light's irradiance, 3 W/m², to the 2 % that the lat-long's sin θ weighting across a texel allows.
+  for (Vec3 towards_light : {Vec3(0.0f, 0.5f, -0.8660254f), Vec3(0.2f, 0.95f, 0.1f), Vec3(0.3f, -0.2f, 0.9f)}) {
+    Vec3 travel = -towards_light;
+    Scene scene = one_reflector("{type: sphere, radius: 1}",
+                                fmt::format("{{type: directional, direction: [{}, {}, {}], irradiance: 3, solid_angle_sr: 0.0008}}",
+                                            travel.x, travel.y, travel.z));
+    SceneFrame frame(scene, 0);
+    DistantLights lights(frame, Vec3(0.0f));
+    FilteredLightMap filtered(lights, 512);
+    Vec3 axis = glm::normalize(towards_light), tangent, bitangent;
+    orthonormal_basis(axis, tangent, bitangent);
+    const int steps = 240;
+    const double half_width = 0.05, step = 2.0 * half_width / steps;
+    double integral = 0.0;
+    for (int i = 0; i < steps; ++i) {
+      for (int j = 0; j < steps; ++j) {
+        double x = -half_width + (i + 0.5) * step, y = -half_width + (j + 0.5) * step;
+        Vec3 direction = glm::normalize(axis + static_cast<float>(x) * tangent + static_cast<float>(y) * bitangent);
+        double jacobian = std::pow(1.0 + x * x + y * y, -1.5);
+        integral += filtered.lookup(direction, Vec3(0.0f), Vec3(0.0f), true).r * step * step * jacobian;
+      }
+    }
+    EXPECT_NEAR(integral, 3.0, 0.06) << "light towards " << towards_light.x << " " << towards_light.y << " " << towards_light.z;
+  }
+}
+
+TEST(PinholeLightMap, StaleTextureFilesOfDeadProcessesAreRemoved) {
+  // A child that has exited and been reaped stands for a killed run; this process and a live one keep theirs.
+  pid_t child = fork();
+  if (child == 0) _exit(0);
+  ASSERT_GT(child, 0);
+  waitpid(child, nullptr, 0);
+  std::filesystem::path folder = std::filesystem::temp_directory_path() / fmt::format("causticbench-stale-test-{}", getpid());
+  std::filesystem::create_directories(folder);
+  auto touch = [&](const std::string& name) { std::ofstream(folder / name) << "x"; return folder / name; };
+  auto dead = touch(fmt::format("causticbench-lightmap-{}-0.tx", child));
+  auto own = touch(fmt::format("causticbench-lightmap-{}-3.tx", getpid()));
+  auto live = touch("causticbench-lightmap-1-0.tx");  // init never exits
+  auto unrelated = touch(fmt::format("something-else-{}-0.tx", child));
+  EXPECT_EQ(remove_stale_light_map_files(folder), 1u);
+  EXPECT_FALSE(std::filesystem::exists(dead));
+  EXPECT_TRUE(std::filesystem::exists(own));
+  EXPECT_TRUE(std::filesystem::exists(live));
+  EXPECT_TRUE(std::filesystem::exists(unrelated));
+  std::filesystem::remove_all(folder);
 }
 
 namespace {

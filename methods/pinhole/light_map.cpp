@@ -1,6 +1,12 @@
 #include "methods/pinhole/light_map.h"
 
+#include <signal.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <mutex>
 
 #include <atomic>
 #include <filesystem>
@@ -218,7 +224,24 @@ void latlong_coordinates(const Vec3& d, float& u, float& v) {
   if (u < 0.0f) u += 1.0f;
 }
 
+constexpr const char* kLightMapFilePrefix = "causticbench-lightmap-";
+
 }  // namespace
+
+size_t remove_stale_light_map_files(const std::filesystem::path& folder) {
+  size_t removed = 0;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
+    std::string name = entry.path().filename().string();
+    if (name.rfind(kLightMapFilePrefix, 0) != 0) continue;
+    long owner = std::strtol(name.c_str() + std::strlen(kLightMapFilePrefix), nullptr, 10);
+    if (owner <= 0 || owner == getpid()) continue;
+    if (kill(static_cast<pid_t>(owner), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
+    std::error_code ignored;
+    if (std::filesystem::remove(entry.path(), ignored)) ++removed;
+  }
+  return removed;
+}
 
 FilteredLightMap::FilteredLightMap(const DistantLights& lights, int height) : state_(std::make_unique<State>()) {
   int width = 2 * height;
@@ -241,9 +264,16 @@ FilteredLightMap::FilteredLightMap(const DistantLights& lights, int height) : st
   rasterise(lights, count, direction_of, solid_angle_of, texel_of, texels);
   OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::FLOAT);
   OIIO::ImageBuf buffer(spec, texels.data());
+  static std::once_flag cleaned;
+  std::call_once(cleaned, [] { remove_stale_light_map_files(std::filesystem::temp_directory_path()); });
   static std::atomic<int> counter{0};
+  // TIFF, not OpenEXR: for OpenEXR lat-long maps OpenImageIO's maketx switches to its "shared border"
+  // convention (oiio:sampleborder), in which the first and last columns are the same direction. Our
+  // texels are centred at (x + 0.5) / width, so the lookup then drops one column at the u = 0 seam: a
+  // compact light straddling it (the ring scene's light sits exactly on it) lost about 20 % of its
+  // energy. TIFF keeps the ordinary pixel-centre convention.
   state_->path = (std::filesystem::temp_directory_path() /
-                  fmt::format("causticbench-lightmap-{}-{}.exr", getpid(), counter++)).string();
+                  fmt::format("{}{}-{}.tx", kLightMapFilePrefix, getpid(), counter++)).string();
   OIIO::ImageSpec config;
   config.attribute("maketx:wrapmodes", "periodic,clamp");
   if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxEnvLatl, buffer, state_->path, config)) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -116,7 +117,8 @@ class LightCubeMap {
 };
 
 // A lat-long copy of the light map as an OpenImageIO mip-mapped environment texture (written to a
-// temporary file, removed on destruction), for filtered lookups with direction derivatives.
+// temporary TIFF file, removed on destruction, or by the next process if this one is killed), for
+// filtered lookups with direction derivatives.
 class FilteredLightMap {
  public:
   FilteredLightMap(const DistantLights& lights, int height);
@@ -132,5 +134,9 @@ class FilteredLightMap {
   std::unique_ptr<State> state_;
   size_t bytes_ = 0;
 };
+
+// FilteredLightMap's texture files are named after their process; one killed mid-run leaves its file
+// behind. Removes, from `folder`, the files of processes that no longer exist; returns how many.
+size_t remove_stale_light_map_files(const std::filesystem::path& folder);
 
 }  // namespace causticbench
