@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "gpu/cube_filter_check.h"
 #include "gpu/vulkan_context.h"
 #include "methods/pinhole/frame_data.h"
 #include "methods/pinhole/vulkan_pinhole.h"
@@ -22,7 +23,8 @@ int usage(const char* program) {
                "  Replays the pinhole frame in DUMP_DIR (from causticbench render --method pinhole --dump-frame DUMP_DIR)\n"
                "  on the first Vulkan device, after one warm-up, N times (default 10). Writes DUMP_DIR/vulkan_irradiance.bin\n"
                "  (RGBA float32 per pixel) and DUMP_DIR/gpu_timings.json, and prints the device, the median and minimum\n"
-               "  kernel time from timestamp queries, and sample evaluations per second.\n",
+               "  kernel time from timestamp queries, and sample evaluations per second. First it checks that the device's\n"
+               "  isotropic and anisotropic cube-map filtering follow textureGrad's gradients (gpu/cube_filter_check.h).\n",
                program);
   return 2;
 }
@@ -46,6 +48,10 @@ int main(int argc, char** argv) {
   try {
     PinholeFrameData frame = read_frame_data(folder);
     gpu::Context context;
+    // Whether this device's filtered lookups mean what textureGrad says (see gpu/cube_filter_check.h).
+    gpu::CubeFilterCheck isotropic = gpu::check_cube_filtering(context, false);
+    gpu::CubeFilterCheck anisotropic = gpu::check_cube_filtering(context, true);
+    std::printf("sampler check: %s; %s\n", isotropic.summary().c_str(), anisotropic.summary().c_str());
     VulkanPinhole pinhole(context);
     pinhole.upload_frame(frame);
     double gpu_ms = 0.0;
@@ -70,7 +76,11 @@ int main(int argc, char** argv) {
     json << "{\n  \"device\": \"" << context.device_name() << "\",\n  \"cpu_device\": " << (context.is_cpu_device() ? "true" : "false")
          << ",\n  \"repetitions\": " << repetitions << ",\n  \"kernel_ms_median\": " << kernel << ",\n  \"kernel_ms_min\": " << minimum
          << ",\n  \"wall_ms_median\": " << median(wall_ms) << ",\n  \"sample_evaluations\": " << evaluations
-         << ",\n  \"evaluations_per_second\": " << (kernel > 0.0 ? evaluations / (kernel * 1e-3) : 0.0) << "\n}\n";
+         << ",\n  \"evaluations_per_second\": " << (kernel > 0.0 ? evaluations / (kernel * 1e-3) : 0.0)
+         << ",\n  \"filtering\": " << frame.filtering
+         << ",\n  \"isotropic_filtering_honours_gradients\": " << (isotropic.honours_gradients ? "true" : "false")
+         << ",\n  \"anisotropic_filtering_honours_gradients\": " << (anisotropic.honours_gradients ? "true" : "false")
+         << "\n}\n";
     std::printf("device %s: %u x %u pixels (%zu receivers) x %u samples, kernel median %.3f ms (min %.3f), wall median %.3f ms, "
                 "%.3g evaluations/s\n",
                 context.device_name().c_str(), frame.width, frame.height, receivers, frame.sample_count(), kernel, minimum,

@@ -5,8 +5,9 @@
 #include <fmt/format.h>
 
 #include "core/optics.h"
-#include "methods/pinhole/vulkan_pinhole.h"
 #include "core/parallel.h"
+#include "gpu/cube_filter_check.h"
+#include "methods/pinhole/vulkan_pinhole.h"
 
 namespace causticbench {
 
@@ -86,6 +87,16 @@ void PinholeMethod::prepare(const Scene& scene, const ParamSet& build) {
   if (build.text("backend") == "vulkan") {
     if (!gpu_context_) gpu_context_ = std::make_unique<gpu::Context>();
     if (!vulkan_) vulkan_ = std::make_unique<VulkanPinhole>(*gpu_context_);
+    sampler_note_.clear();
+    if (build.text("filtering") != "none") {
+      // Filtered lookups are only what `filtering` says if the device's sampler follows textureGrad's
+      // gradients; lavapipe's anisotropic sampler does not. The run goes on, and its record says so.
+      gpu::CubeFilterCheck check = gpu::check_cube_filtering(*gpu_context_, build.text("filtering") == "anisotropic");
+      if (!check.honours_gradients) {
+        sampler_note_ = gpu_context_->device_name() + ": " + check.summary() + "; this run's filtering is the driver's, not the method's";
+        fmt::print(stderr, "warning: {}\n", sampler_note_);
+      }
+    }
   }
   if (pinhole_reflectors(scene, build.text("interaction")).empty()) {
     throw InputError(fmt::format("{}: pinhole with interaction '{}' needs at least one {} object", scene.source,
@@ -493,6 +504,7 @@ nlohmann::json PinholeMethod::record() const {
   return {{"backend", build_.text("backend")},
           {"gpu_device", gpu_context_ ? gpu_context_->device_name() : ""},
           {"gpu_render_ms", gpu_render_ms_},
+          {"gpu_sampler_warning", sampler_note_},
           {"samples", samples_.samples.size()},
           {"reflector_area", samples_.total_area},
           {"sample_spacing", samples_.spacing},

@@ -43,6 +43,7 @@ class PinholeMethod : public CausticMethod {
   // The per-frame GPU inputs (samples, materials, cube map); receivers are added at render time.
   PinholeFrameData frame_data_;
   std::unique_ptr<gpu::Context> gpu_context_;
+  std::string sampler_note_;  // set when the device's filtered lookups ignore the gradients
   std::unique_ptr<class VulkanPinhole> vulkan_;
   double gpu_render_ms_ = 0.0;
 
