@@ -222,6 +222,11 @@ std::vector<SceneVariant> read_variants(const ConfigNode& root, const SceneVaria
     if (!names.insert(variant.name).second) {
       item.fail_here("variants with different names (set `name`)", "a second variant named '" + variant.name + "'");
     }
+    for (const SceneVariant& earlier : variants) {
+      if (earlier.overrides == variant.overrides) {
+        item.fail_here("variants that differ in their overrides", "the same overrides as variant '" + earlier.name + "'");
+      }
+    }
     variants.push_back(std::move(variant));
   }
   return variants;
@@ -463,29 +468,29 @@ Experiment load_experiment(const std::string& path) {
     }
     entry.finish();
     for (size_t v = 0; v < experiment.variants.size(); ++v) {
-    const SceneVariant& variant = experiment.variants[v];
-    for (const KnobAssignment& assignment : expand_sweep(fixed, sweep, zip)) {
-      ParamDict dict;
-      for (const auto& [name, value] : assignment) dict.set(name, value.text, value.where);
-      RunSpec run;
-      run.method = info.name;
-      run.params = dict.resolve(info.params, info.name);
-      run.build = select_phase(run.params, info.params, ParamPhase::build);
-      run.render = select_phase(run.params, info.params, ParamPhase::render);
-      std::string swept_text;
-      for (const std::string& name : varied) {
-        run.swept[name] = format_knob_value(run.params.values().at(name));
-        swept_text += fmt::format(" {}={}", name, run.swept[name]);
+      const SceneVariant& variant = experiment.variants[v];
+      for (const KnobAssignment& assignment : expand_sweep(fixed, sweep, zip)) {
+        ParamDict dict;
+        for (const auto& [name, value] : assignment) dict.set(name, value.text, value.where);
+        RunSpec run;
+        run.method = info.name;
+        run.params = dict.resolve(info.params, info.name);
+        run.build = select_phase(run.params, info.params, ParamPhase::build);
+        run.render = select_phase(run.params, info.params, ParamPhase::render);
+        std::string swept_text;
+        for (const std::string& name : varied) {
+          run.swept[name] = format_knob_value(run.params.values().at(name));
+          swept_text += fmt::format(" {}={}", name, run.swept[name]);
+        }
+        run.variant = v;
+        run.label = label + swept_text + (experiment.variants.size() > 1 ? " @" + variant.name : "");
+        run.spec = {{"scene_hash", experiment.scene_hash}, {"overrides", variant.overrides},
+                    {"frames", experiment.frames},         {"repetitions", experiment.repetitions},
+                    {"method", info.name},                 {"params", run.params.to_json()}};
+        run.key = hash_json(run.spec);
+        if (!seen.insert(run.key).second) continue;  // the same run twice: keep one
+        experiment.runs.push_back(std::move(run));
       }
-      run.variant = v;
-      run.label = label + swept_text + (experiment.variants.size() > 1 ? " @" + variant.name : "");
-      run.spec = {{"scene_hash", experiment.scene_hash}, {"overrides", variant.overrides},
-                  {"frames", experiment.frames},         {"repetitions", experiment.repetitions},
-                  {"method", info.name},                 {"params", run.params.to_json()}};
-      run.key = hash_json(run.spec);
-      if (!seen.insert(run.key).second) continue;  // the same run twice: keep one
-      experiment.runs.push_back(std::move(run));
-    }
     }
   }
   experiment.paper = nullptr;

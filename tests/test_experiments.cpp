@@ -196,6 +196,9 @@ variants:
   EXPECT_NE(message.find("did you mean 'resolution'"), std::string::npos) << message;
   message = error_of(folder, replace(kExperiment, "repetitions: 1", "repetitions: 1\nvariants:\n  - {resolution: [8, 8]}\n  - {resolution: [8, 8]}"));
   EXPECT_NE(message.find("a second variant named '8x8'"), std::string::npos) << message;
+  message = error_of(folder, replace(kExperiment, "repetitions: 1", "repetitions: 1\nvariants:\n  - {name: a, resolution: [8, 8]}\n  - {name: b, resolution: [8, 8]}"));
+  EXPECT_NE(message.find("the same overrides as variant 'a'"), std::string::npos) << message;
+  EXPECT_NE(message.find("bad.yaml:7:"), std::string::npos) << message;
   message = error_of(folder, replace(kExperiment, "repetitions: 1", "repetitions: 1\nvariants: []"));
   EXPECT_NE(message.find("a non-empty list"), std::string::npos) << message;
 }
