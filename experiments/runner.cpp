@@ -147,7 +147,7 @@ RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, Caustic
   for (int frame : experiment.frames) {
     PosedFrame posed(variant.scene, frame);
     if (frame == experiment.frames.front()) {
-      receiver_pixels = static_cast<size_t>(std::count(posed.gbuffer.receiver.begin(), posed.gbuffer.receiver.end(), 1));
+      receiver_pixels = posed.gbuffer.receiver_count();
     }
     FrameContext context{posed.frame, posed.tracer};
     Image image;
