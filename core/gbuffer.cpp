@@ -19,7 +19,7 @@ Image GBuffer::to_image() const {
       image.at(i, 6 + c) = albedo[i][c];
     }
     image.at(i, 9) = static_cast<float>(object[i]);
-    image.at(i, 10) = receiver[i];
+    image.at(i, kReceiverChannel) = receiver[i];
     image.at(i, 11) = footprint[i];
   }
   return image;

@@ -21,8 +21,9 @@ struct GBuffer {
 
   size_t pixel_count() const { return static_cast<size_t>(width) * height; }
   size_t receiver_count() const;
-  // position/normal/albedo/object/mask as a multi-channel EXR-ready image.
+  // position/normal/albedo/object/mask/footprint as a multi-channel EXR-ready image (12 channels).
   Image to_image() const;
+  static constexpr int kReceiverChannel = 10;  // the receiver mask's channel in to_image()
 };
 
 GBuffer render_gbuffer(const Tracer& tracer);

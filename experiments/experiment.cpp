@@ -79,7 +79,7 @@ bool run_matches_filter(const Experiment& experiment, const RunSpec& run, const 
   return matches_filter(run.method, run.label, knobs, filter);
 }
 
-bool record_matches_filter(const nlohmann::json& record, const std::string& filter) {
+nlohmann::json record_knobs(const nlohmann::json& record) {
   nlohmann::json knobs = nlohmann::json::object();
   for (const char* phase : {"build", "render"}) {
     if (record.contains(phase) && record[phase].is_object()) knobs.update(record[phase]);
@@ -87,7 +87,11 @@ bool record_matches_filter(const nlohmann::json& record, const std::string& filt
   for (const char* field : {"variant", "receiver_pixels"}) {
     if (record.contains(field)) knobs[field] = record[field];
   }
-  return matches_filter(record.value("method", ""), record.value("label", ""), knobs, filter);
+  return knobs;
+}
+
+bool record_matches_filter(const nlohmann::json& record, const std::string& filter) {
+  return matches_filter(record.value("method", ""), record.value("label", ""), record_knobs(record), filter);
 }
 
 namespace {

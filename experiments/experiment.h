@@ -80,7 +80,10 @@ bool matches_filter(const std::string& method, const std::string& label, const n
                     const std::string& filter);
 // A run also matches `variant=NAME` (the name of its scene variant).
 bool run_matches_filter(const Experiment& experiment, const RunSpec& run, const std::string& filter);
-// The same for a stored record.json (its build and render knobs, its variant and receiver_pixels).
+// A stored record.json's knobs as filters and claims see them: build then render knobs, and its
+// variant and receiver_pixels when it has them.
+nlohmann::json record_knobs(const nlohmann::json& record);
+// --filter on a stored record.json (its method, label and record_knobs).
 bool record_matches_filter(const nlohmann::json& record, const std::string& filter);
 
 }  // namespace causticbench

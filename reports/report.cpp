@@ -20,8 +20,10 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/image.h"
+#include "core/gbuffer.h"
 #include "core/image_statistics.h"
 #include "experiments/experiment.h"
+#include "experiments/result_store.h"
 #include "metrics/metrics.h"
 
 namespace causticbench {
@@ -181,7 +183,9 @@ std::string file_safe(const std::string& text) {
   return out.empty() ? "run" : out;
 }
 
-std::string frame_file(int64_t frame) { return fmt::format("frame_{:04d}.exr", frame); }
+std::string frame_file(int64_t frame, const std::string& prefix = "frame") {
+  return ResultPaths::frame_file(static_cast<int>(frame), prefix) + ".exr";
+}
 
 // ---------------------------------------------------------------------------------------------------
 // Metric directions.
@@ -300,7 +304,6 @@ struct ClaimResult {
 
 struct Report {
   fs::path folder;
-  std::string folder_text;
   json experiment, environment;
   std::string name, primary;
   std::vector<std::string> metrics;  // metric columns of the tables
@@ -329,7 +332,7 @@ struct Report {
   }
   bool multi() const { return variants.size() > 1; }
   fs::path reference_folder(const std::string& key) const {
-    return key.empty() ? fs::path() : folder.parent_path() / "references" / key;
+    return key.empty() ? fs::path() : fs::path(ResultPaths{folder.parent_path().string()}.reference(key));
   }
   bool on_front(size_t run) const {
     if (fronts.empty()) return false;
@@ -357,22 +360,10 @@ struct Report {
   }
 };
 
-// The reference's noise floor and history may sit at the top of its record or inside the method's own
-// record (the reference method writes them there).
-const json& reference_field(const json& record, const std::string& key) {
-  if (member(record, key).is_null()) {
-    if (!member(member(record, "method_record"), key).is_null()) return member(member(record, "method_record"), key);
-    const json& frames = member(record, "frames");
-    if (frames.is_array() && !frames.empty()) return member(member(frames[0], "method_record"), key);
-  }
-  return member(record, key);
-}
-
 // ---------------------------------------------------------------------------------------------------
 // Loading.
 
 void load(Report& report, const std::string& folder_text) {
-  report.folder_text = folder_text;
   if (folder_text.empty()) throw InputError("report: no experiment folder given (expected results/<experiment>/)");
   fs::path folder(folder_text);
   std::error_code error;
@@ -575,9 +566,9 @@ void load(Report& report, const std::string& folder_text) {
       }
     }
     variant.reference = records[variant.reference_key];
-    const json& floor = reference_field(variant.reference, "noise_floor");
+    const json& floor = member(variant.reference, "noise_floor");
     if (floor.is_number()) variant.noise_floor = floor.get<double>();
-    const json& history = reference_field(variant.reference, "history");
+    const json& history = member(variant.reference, "history");
     if (history.is_array()) variant.history = history;
   }
 }
@@ -667,12 +658,14 @@ std::vector<uint8_t> lit_mask(const Image& reference) {
 // The receiver mask of a reference frame, from its stored G-buffer (channel 10, "receiver"), so that
 // the exposure matches `causticbench render`; the lit pixels when the G-buffer is missing.
 std::vector<uint8_t> receiver_mask(const fs::path& reference_folder, int64_t frame, const Image& reference) {
-  fs::path gbuffer_path = reference_folder / fmt::format("gbuffer_{:04d}.exr", frame);
+  fs::path gbuffer_path = reference_folder / frame_file(frame, "gbuffer");
   if (fs::is_regular_file(gbuffer_path)) {
     Image gbuffer = read_exr(gbuffer_path.string());
-    if (gbuffer.channels() > 10 && gbuffer.pixel_count() == reference.pixel_count()) {
+    if (gbuffer.channels() > GBuffer::kReceiverChannel && gbuffer.pixel_count() == reference.pixel_count()) {
       std::vector<uint8_t> mask(gbuffer.pixel_count(), 0);
-      for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) mask[pixel] = gbuffer.at(pixel, 10) > 0.5f;
+      for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
+        mask[pixel] = gbuffer.at(pixel, GBuffer::kReceiverChannel) > 0.5f;
+      }
       return mask;
     }
   }
@@ -779,8 +772,8 @@ void make_images(Report& report, std::set<std::string>& written) {
     Thumbnail thumb;
     thumb.reference = true;
     thumb.title = report.multi() ? "reference " + variant.name : "reference";
-    std::string passes = reference_field(variant.reference, "passes").is_number()
-                             ? value_text(reference_field(variant.reference, "passes")) + " passes"
+    std::string passes = member(variant.reference, "passes").is_number()
+                             ? value_text(member(variant.reference, "passes")) + " passes"
                              : "";
     thumb.caption = fmt::format("frame {}{}{}", first_frame, passes.empty() ? "" : " \u00b7 " + passes,
                                 variant.noise_floor ? " \u00b7 noise floor " + num(*variant.noise_floor) : "");
@@ -1358,19 +1351,22 @@ bool same_value(const json& a, const json& b) {
   return a == b;
 }
 
+// The run's resolved knobs as record_matches_filter sees them, with the variant the report assigned
+// (an older record names none).
+json run_knobs(const Run& run) {
+  json knobs = record_knobs(run.record);
+  knobs["variant"] = run.variant;
+  return knobs;
+}
+
 bool matches(const Run& run, const json& row) {
   if (run.method != string_member(row, "method")) return false;
   const json& match = member(row, "match");
   if (!match.is_object()) return true;
+  json knobs = run_knobs(run);  // a knob is either a build or a render knob, never both
   for (const auto& [name, wanted] : match.items()) {
-    if (name == "variant") {  // the run's scene variant
-      if (run.variant != value_text(wanted)) return false;
-      continue;
-    }
-    const json& build = member(member(run.record, "build"), name);
-    const json& render = member(member(run.record, "render"), name);
-    const json& found = build.is_null() ? render : build;
-    if (found.is_null() || !same_value(found, wanted)) return false;
+    const json& found = member(knobs, name);
+    if (found.is_null() || !same_value(found, name == "variant" ? json(value_text(wanted)) : wanted)) return false;
   }
   return true;
 }
@@ -1427,6 +1423,7 @@ Table paper_table(const Report& report) {
 const char* const kClaimQuantities[] = {"render_ms", "update_ms", "frame_ms", "prepare_seconds", "memory_bytes"};
 constexpr size_t kLinearMinPoints = 3;
 
+// Not in the metric registry, so better() and direction_text() take them as lower-is-better, as they are.
 bool is_claim_quantity(const std::string& name) {
   return std::any_of(std::begin(kClaimQuantities), std::end(kClaimQuantities),
                      [&](const char* quantity) { return name == quantity; });
@@ -1439,26 +1436,6 @@ std::optional<double> claim_value(const Run& run, const std::string& name) {
   return finite(value) ? value : std::nullopt;
 }
 
-// Timings and memory: lower is better; metrics: the registry's direction.
-bool claim_better(const std::string& name, double a, double b) {
-  if (is_claim_quantity(name)) return !std::isnan(a) && (std::isnan(b) || a < b);
-  return better(name, a, b);
-}
-
-std::string claim_direction(const std::string& name) {
-  return is_claim_quantity(name) ? "lower is better" : direction_text(name);
-}
-
-// The run's resolved knobs, build then render, plus its "variant" and "receiver_pixels" when the record
-// has them (as record_matches_filter sees them).
-json run_knobs(const Run& run) {
-  json knobs = json::object();
-  for (const char* phase : {"build", "render"})
-    if (member(run.record, phase).is_object()) knobs.update(member(run.record, phase));
-  for (const char* field : {"variant", "receiver_pixels"})
-    if (!member(run.record, field).is_null()) knobs[field] = member(run.record, field);
-  return knobs;
-}
 
 std::optional<double> knob_number(const json& knobs, const std::string& name) {
   const json& value = member(knobs, name);
@@ -1496,8 +1473,8 @@ std::vector<ClaimPoint> claim_points(const Report& report, const std::string& fi
 std::optional<ClaimPoint> extreme(const std::vector<ClaimPoint>& points, const std::string& quantity, bool worst) {
   std::optional<ClaimPoint> found;
   for (const ClaimPoint& point : points) {
-    if (!found || (worst ? claim_better(quantity, found->value, point.value)
-                         : claim_better(quantity, point.value, found->value)))
+    if (!found || (worst ? better(quantity, found->value, point.value)
+                         : better(quantity, point.value, found->value)))
       found = point;
   }
   return found;
@@ -1544,7 +1521,7 @@ void evaluate_best(const Report& report, ClaimResult& result) {
   result.first = extreme(expected, result.quantity, false);
   result.other = extreme(others, result.quantity, false);
   if (points.size() < 2 || !result.first || !result.other) return;
-  result.verdict = claim_better(result.quantity, result.first->value, result.other->value) ? "confirmed"
+  result.verdict = better(result.quantity, result.first->value, result.other->value) ? "confirmed"
                                                                                             : "not confirmed";
 }
 
@@ -1558,7 +1535,7 @@ void evaluate_better(const Report& report, ClaimResult& result) {
   result.first = extreme(mine, result.quantity, true);
   result.other = extreme(theirs, result.quantity, false);
   if (!result.first || !result.other) return;
-  result.verdict = claim_better(result.quantity, result.first->value, result.other->value) ? "confirmed"
+  result.verdict = better(result.quantity, result.first->value, result.other->value) ? "confirmed"
                                                                                             : "not confirmed";
 }
 
@@ -1568,23 +1545,18 @@ void evaluate_linear(const Report& report, ClaimResult& result) {
   std::vector<size_t> runs;
   std::vector<json> knobs;
   std::vector<double> xs, ys;
-  for (size_t i = 0; i < report.runs.size(); ++i) {
-    const Run& run = report.runs[i];
-    if (!record_matches_filter(run.record, string_member(result.claim, "among"))) continue;
-    if (!run.ok) {
-      ++result.failed_first;
-      continue;
-    }
+  for (const ClaimPoint& point : claim_points(report, string_member(result.claim, "among"), result.quantity,
+                                             result.failed_first)) {
+    const Run& run = report.runs[point.run];
     json resolved = run_knobs(run);
     auto x_value = knob_number(resolved, x);
-    auto y_value = claim_value(run, result.quantity);
-    if (!finite(x_value) || !y_value) continue;
+    if (!finite(x_value)) continue;
     resolved.erase(x);
     resolved["method"] = run.method;
-    runs.push_back(i);
+    runs.push_back(point.run);
     knobs.push_back(std::move(resolved));
     xs.push_back(*x_value);
-    ys.push_back(*y_value);
+    ys.push_back(point.value);
   }
   result.points = runs.size();
   // Group by every other knob (and the method) whose value differs between the runs. receiver_pixels is
@@ -1688,7 +1660,7 @@ std::string claim_evidence(const Report& report, const ClaimResult& result, Form
   auto point = [&](const ClaimPoint& p) {
     return escaped(report.display(p.run), format) + " (" + quantity + " " + num(p.value) + ")";
   };
-  std::string direction = quantity + ": " + escaped(claim_direction(result.quantity), format) + ".";
+  std::string direction = quantity + ": " + escaped(direction_text(result.quantity), format) + ".";
   if (result.kind == "best") {
     std::string among = code_text(string_member(claim, "among"), format);
     std::string expect = code_text(string_member(claim, "expect"), format);
@@ -1761,7 +1733,7 @@ json claim_json(const Report& report, const ClaimResult& result) {
   if (!result.problem.empty()) {
     details["problem"] = result.problem;
   } else if (result.kind == "best") {
-    details = {{"direction", claim_direction(result.quantity)},
+    details = {{"direction", direction_text(result.quantity)},
                {"runs", result.first_count + result.other_count},
                {"matching_expect", result.first_count},
                {"failed_runs", result.failed_first},
@@ -1770,7 +1742,7 @@ json claim_json(const Report& report, const ClaimResult& result) {
     if (result.verdict != "not measured")
       details["best"] = claim_point_json(report, result.verdict == "confirmed" ? result.first : result.other);
   } else if (result.kind == "better") {
-    details = {{"direction", claim_direction(result.quantity)},
+    details = {{"direction", direction_text(result.quantity)},
                {"run_runs", result.first_count},
                {"than_runs", result.other_count},
                {"failed_runs", result.failed_first + result.failed_other},
@@ -1852,9 +1824,9 @@ std::vector<std::pair<std::string, std::string>> experiment_facts(const Report& 
   auto reference_text = [](const Variant& variant) {
     std::string text = variant.reference_key;
     if (variant.noise_floor) text += ", noise floor " + num(*variant.noise_floor);
-    const json& passes = reference_field(variant.reference, "passes");
+    const json& passes = member(variant.reference, "passes");
     if (passes.is_number()) text += ", " + value_text(passes) + " passes";
-    const json& seconds = reference_field(variant.reference, "seconds");
+    const json& seconds = member(variant.reference, "seconds");
     if (seconds.is_number()) text += ", " + num(seconds.get<double>()) + " s";
     return text;
   };
