@@ -38,7 +38,7 @@ int run_gpu_compare(const std::string& folder) {
   Image cpu = rgba_image(read_floats(cpu_path), frame.width, frame.height, cpu_path);
   Image gpu = rgba_image(read_floats(gpu_path), frame.width, frame.height, gpu_path);
   std::vector<uint8_t> mask(frame.pixel_count());
-  for (uint32_t pixel = 0; pixel < frame.pixel_count(); ++pixel) mask[pixel] = frame.receiver_positions[4 * pixel + 3] != 0.0f;
+  for (uint32_t pixel = 0; pixel < frame.pixel_count(); ++pixel) mask[pixel] = frame.is_receiver(pixel);
   double relmse = relative_mse(gpu, cpu, mask);
   double cpu_flux = masked_sum(cpu, mask), gpu_flux = masked_sum(gpu, mask);
   double ratio = cpu_flux > 0.0 ? gpu_flux / cpu_flux : (gpu_flux == 0.0 ? 1.0 : 0.0);

@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
       return values[values.size() / 2];
     };
     size_t receivers = 0;
-    for (uint32_t pixel = 0; pixel < frame.pixel_count(); ++pixel) receivers += frame.receiver_positions[4 * pixel + 3] != 0.0f;
+    for (uint32_t pixel = 0; pixel < frame.pixel_count(); ++pixel) receivers += frame.is_receiver(pixel);
     double evaluations = static_cast<double>(receivers) * frame.sample_count();
     double kernel = median(kernel_ms), minimum = *std::min_element(kernel_ms.begin(), kernel_ms.end());
     write_floats(folder + "/vulkan_irradiance.bin", irradiance);

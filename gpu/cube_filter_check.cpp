@@ -2,7 +2,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <mutex>
 #include <random>
+#include <utility>
 #include <vector>
 
 namespace causticbench::gpu {
@@ -85,6 +88,16 @@ CubeFilterCheck check_cube_filtering(Context& context, bool anisotropic) {
   check.deviation_large_footprint = mean_deviation(context, texture, pipeline, 0.3f);
   check.honours_gradients = check.deviation_small_footprint > 0.15 && check.deviation_large_footprint < 0.02;
   return check;
+}
+
+CubeFilterCheck cached_cube_filter_check(Context& context, bool anisotropic) {
+  static std::mutex mutex;
+  static std::map<std::pair<std::string, bool>, CubeFilterCheck> checks;
+  std::lock_guard<std::mutex> lock(mutex);
+  auto key = std::make_pair(context.device_name(), anisotropic);
+  auto found = checks.find(key);
+  if (found == checks.end()) found = checks.emplace(key, check_cube_filtering(context, anisotropic)).first;
+  return found->second;
 }
 
 }  // namespace causticbench::gpu

@@ -22,5 +22,7 @@ struct CubeFilterCheck {
 };
 
 CubeFilterCheck check_cube_filtering(Context& context, bool anisotropic);
+// The same, run once per device name and mode in this process (the answer depends on nothing else).
+CubeFilterCheck cached_cube_filter_check(Context& context, bool anisotropic);
 
 }  // namespace causticbench::gpu

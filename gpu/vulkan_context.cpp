@@ -271,7 +271,7 @@ CubeTexture::CubeTexture(Context& context, int size, const std::vector<std::vect
   sampler_info.maxLod = static_cast<float>(level_count);
   if (anisotropic && context.max_anisotropy() > 1.0f) {
     sampler_info.anisotropyEnable = VK_TRUE;
-    max_anisotropy_ = sampler_info.maxAnisotropy = std::min(16.0f, context.max_anisotropy());
+    sampler_info.maxAnisotropy = std::min(16.0f, context.max_anisotropy());
   }
   check(vkCreateSampler(device, &sampler_info, nullptr, &sampler_), "vkCreateSampler");
 }

@@ -54,7 +54,6 @@ class CubeTexture {
   CubeTexture& operator=(const CubeTexture&) = delete;
   VkImageView view() const { return view_; }
   VkSampler sampler() const { return sampler_; }
-  float max_anisotropy() const { return max_anisotropy_; }
 
  private:
   Context& context_;
@@ -62,7 +61,6 @@ class CubeTexture {
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   VkImageView view_ = VK_NULL_HANDLE;
   VkSampler sampler_ = VK_NULL_HANDLE;
-  float max_anisotropy_ = 1.0f;
 };
 
 // A compute pipeline whose bindings 0 .. n-1 are storage buffers, followed by `image_count` combined

@@ -27,6 +27,7 @@ struct PinholeFrameData {
   float footprint_radius = 0.0f;  // r of the differential point samples
 
   uint32_t pixel_count() const { return width * height; }
+  bool is_receiver(uint32_t pixel) const { return receiver_positions[4ull * pixel + 3] != 0.0f; }
   uint32_t sample_count() const { return static_cast<uint32_t>(sample_positions.size() / 4); }
 };
 

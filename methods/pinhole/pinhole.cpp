@@ -82,31 +82,37 @@ void PinholeMethod::check_scene(const Scene& scene) const {
 }
 
 void PinholeMethod::prepare(const Scene& scene, const ParamSet& build) {
-  build_ = build;
-  scene_ = &scene;
-  if (build.text("backend") == "vulkan") {
-    if (!gpu_context_) gpu_context_ = std::make_unique<gpu::Context>();
-    if (!vulkan_) vulkan_ = std::make_unique<VulkanPinhole>(*gpu_context_);
-    sampler_note_.clear();
-    if (build.text("filtering") != "none") {
-      // Filtered lookups are only what `filtering` says if the device's sampler follows textureGrad's
-      // gradients; lavapipe's anisotropic sampler does not. The run goes on, and its record says so.
-      gpu::CubeFilterCheck check = gpu::check_cube_filtering(*gpu_context_, build.text("filtering") == "anisotropic");
-      if (!check.honours_gradients) {
-        sampler_note_ = gpu_context_->device_name() + ": " + check.summary() + "; this run's filtering is the driver's, not the method's";
-        fmt::print(stderr, "warning: {}\n", sampler_note_);
-      }
-    }
-  }
-  if (pinhole_reflectors(scene, build.text("interaction")).empty()) {
+  reflectors_ = pinhole_reflectors(scene, build.text("interaction"));
+  if (reflectors_.empty()) {
     throw InputError(fmt::format("{}: pinhole with interaction '{}' needs at least one {} object", scene.source,
                                  build.text("interaction"), build.text("interaction") == "refract" ? "glass" : "specular"));
+  }
+  build_ = build;
+  scene_ = &scene;
+  // A new scene or new build knobs: nothing of the last frame's light map carries over.
+  cube_map_lights_.reset();
+  filtered_map_.reset();
+  frame_data_ = PinholeFrameData{};
+  sampler_note_.clear();
+  if (build.text("backend") != "vulkan") {
+    vulkan_.reset();
+    return;
+  }
+  if (!gpu_context_) gpu_context_ = std::make_unique<gpu::Context>();
+  if (!vulkan_) vulkan_ = std::make_unique<VulkanPinhole>(*gpu_context_);
+  if (build.text("filtering") != "none") {
+    // Filtered lookups are only what `filtering` says if the device's sampler follows textureGrad's
+    // gradients; lavapipe's anisotropic sampler does not. The run goes on, and its record says so.
+    gpu::CubeFilterCheck check = gpu::cached_cube_filter_check(*gpu_context_, build.text("filtering") == "anisotropic");
+    if (!check.honours_gradients) {
+      sampler_note_ = gpu_context_->device_name() + ": " + check.summary() + "; this run's filtering is the driver's, not the method's";
+      fmt::print(stderr, "warning: {}\n", sampler_note_);
+    }
   }
 }
 
 void PinholeMethod::update(const FrameContext& context) {
-  std::vector<int> objects = pinhole_reflectors(*scene_, build_.text("interaction"));
-  samples_ = sample_reflectors(context.frame, objects, static_cast<size_t>(build_.integer("samples")),
+  samples_ = sample_reflectors(context.frame, reflectors_, static_cast<size_t>(build_.integer("samples")),
                                parse_sampling_strategy(build_.text("sampling")), static_cast<uint64_t>(build_.integer("seed")));
   sample_materials_.clear();
   for (const ReflectorSample& sample : samples_.samples) sample_materials_.push_back(&scene_->objects[sample.object].material);
@@ -122,10 +128,15 @@ void PinholeMethod::update(const FrameContext& context) {
     cube_map_ = LightCubeMap(lights, static_cast<int>(build_.integer("environment_resolution")));
     cube_map_lights_ = std::make_unique<DistantLights>(lights);
   }
-  // The flat arrays the Vulkan backend and --dump-frame use.
-  frame_data_ = PinholeFrameData{};
-  frame_data_.resolution = cube_map_.resolution();
-  frame_data_.cube_map = cube_map_.texels();
+  // The flat arrays the Vulkan backend and --dump-frame use; the cube map is copied when it changes.
+  if (lights_changed) {
+    frame_data_.resolution = cube_map_.resolution();
+    frame_data_.cube_map = cube_map_.texels();
+  }
+  frame_data_.sample_positions.clear();
+  frame_data_.sample_normals.clear();
+  frame_data_.materials.clear();
+  frame_data_.differentials.clear();
   std::vector<const Material*> materials;
   for (size_t i = 0; i < samples_.samples.size(); ++i) {
     const ReflectorSample& sample = samples_.samples[i];
@@ -147,7 +158,7 @@ void PinholeMethod::update(const FrameContext& context) {
     // The denser neighbourhood for the regression: three sample spacings across.
     estimate_differentials(samples_, 1.5 * samples_.spacing);
     frame_data_.filtering = build_.text("filtering") == "anisotropic" ? 2 : 1;
-    frame_data_.footprint_radius = static_cast<float>(0.5 * samples_.spacing);
+    frame_data_.footprint_radius = footprint_radius();
     for (const ReflectorSample& sample : samples_.samples) {
       for (const Vec3& v : {sample.direction_u, sample.direction_v, sample.normal_derivative_u, sample.normal_derivative_v}) {
         frame_data_.differentials.insert(frame_data_.differentials.end(), {v.x, v.y, v.z, 0.0f});
@@ -157,7 +168,10 @@ void PinholeMethod::update(const FrameContext& context) {
       filtered_map_ = std::make_unique<FilteredLightMap>(lights, static_cast<int>(build_.integer("environment_resolution")) * 2);
     }
   }
-  if (vulkan_) vulkan_->upload_frame(frame_data_);
+  if (vulkan_) {
+    vulkan_->upload_samples(frame_data_);
+    if (lights_changed) vulkan_->upload_light_map(frame_data_);
+  }
   if (build_.text("filtering") == "none") {
     samples_.dense.clear();
     samples_.dense.shrink_to_fit();
@@ -329,24 +343,22 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   Image result(gbuffer.width, gbuffer.height, 3);
   const std::vector<ReflectorSample>& samples = samples_.samples;
   if (samples.empty()) return result;
+  evaluations_ = static_cast<double>(gbuffer.receiver_count()) * static_cast<double>(samples.size());
   if (vulkan_) {
-    PinholeFrameData frame = frame_data_;
-    fill_receivers(gbuffer, params, frame);
-    std::vector<float> rgba = vulkan_->render(frame, gpu_render_ms_);
+    fill_receivers(gbuffer, params, frame_data_);
+    std::vector<float> rgba = vulkan_->render(frame_data_, gpu_render_ms_);
     for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
       result.set_rgb(pixel, Color(rgba[4 * pixel], rgba[4 * pixel + 1], rgba[4 * pixel + 2]));
     }
-    evaluations_ = static_cast<double>(gbuffer.receiver_count()) * static_cast<double>(samples.size());
     return result;
   }
-  const double epsilon_knob = params.real("epsilon");
-  const float epsilon = static_cast<float>(epsilon_knob >= 0.0 ? epsilon_knob : samples_.spacing * samples_.spacing);
+  const float epsilon = epsilon_of(params);
   const bool attenuation = params.boolean("attenuation");
   Interaction interaction{build_.text("interaction") == "refract", params.boolean("fresnel")};
   const std::string& filtering = build_.text("filtering");
   const bool filtered = filtering != "none" && filtered_map_;
   const bool anisotropic = filtering == "anisotropic";
-  const float footprint_radius = static_cast<float>(0.5 * samples_.spacing);
+  const float footprint_radius = this->footprint_radius();
   // Structure of arrays for the hot loop (pixels x samples): positions and normals contiguous.
   const size_t count = samples.size();
   // Padded to a multiple of 8 for the vector kernel; padding samples have a zero normal, so they never face.
@@ -400,7 +412,6 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
         result.set_rgb(pixel, sum);
       }
     });
-    evaluations_ = static_cast<double>(gbuffer.receiver_count()) * static_cast<double>(count);
     return result;
   }
   parallel_blocks(gbuffer.pixel_count(), 64, [&](size_t begin, size_t end, size_t) {
@@ -451,8 +462,13 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
       result.set_rgb(pixel, sum);
     }
   });
-  evaluations_ = static_cast<double>(gbuffer.receiver_count()) * static_cast<double>(samples.size());
   return result;
+}
+
+float PinholeMethod::epsilon_of(const ParamSet& params) const {
+  // Negative: the paper's default, the squared sample spacing.
+  const double knob = params.real("epsilon");
+  return static_cast<float>(knob >= 0.0 ? knob : samples_.spacing * samples_.spacing);
 }
 
 size_t PinholeMethod::memory_bytes() const {
@@ -480,8 +496,7 @@ void PinholeMethod::fill_receivers(const GBuffer& gbuffer, const ParamSet& param
     position[0] = p.x, position[1] = p.y, position[2] = p.z, position[3] = receiver;
     normal[0] = n.x, normal[1] = n.y, normal[2] = n.z, normal[3] = 0.0f;
   }
-  const double epsilon_knob = params.real("epsilon");
-  frame.epsilon = static_cast<float>(epsilon_knob >= 0.0 ? epsilon_knob : samples_.spacing * samples_.spacing);
+  frame.epsilon = epsilon_of(params);
   frame.area = samples_.samples.empty() ? 0.0f : samples_.samples.front().area;
   frame.attenuation = params.boolean("attenuation") ? 1 : 0;
   frame.fresnel = params.boolean("fresnel") ? 1 : 0;

@@ -28,12 +28,10 @@ class PinholeMethod : public CausticMethod {
   void dump_frame(const GBuffer& gbuffer, const ParamSet& render, const Image& output,
                   const std::string& folder) const override;
 
-  // For tests: the samples of the last update.
-  const SampleSet& samples() const { return samples_; }
-
  private:
   ParamSet build_;
   const Scene* scene_ = nullptr;
+  std::vector<int> reflectors_;  // the objects sampled, from prepare()
   SampleSet samples_;
   std::vector<const Material*> sample_materials_;
   LightCubeMap cube_map_;
@@ -48,6 +46,9 @@ class PinholeMethod : public CausticMethod {
   double gpu_render_ms_ = 0.0;
 
   void fill_receivers(const GBuffer& gbuffer, const ParamSet& render, PinholeFrameData& frame) const;
+  float epsilon_of(const ParamSet& render) const;
+  // Half the sample spacing: where the differential point samples' footprint gradients are taken.
+  float footprint_radius() const { return static_cast<float>(0.5 * samples_.spacing); }
 };
 
 // The specular objects the method samples for an interaction ("reflect": mirrors, diffuse+mirror and

@@ -173,6 +173,10 @@ std::vector<size_t> search_scale(const std::vector<SurfacePoint>& dense, size_t 
   return best;
 }
 
+double triangle_area(const TriangleMesh& mesh, const glm::uvec3& t) {
+  return 0.5 * glm::length(glm::cross(mesh.positions[t.y] - mesh.positions[t.x], mesh.positions[t.z] - mesh.positions[t.x]));
+}
+
 }  // namespace
 
 double object_area(const SceneFrame& frame, int object) {
@@ -184,39 +188,37 @@ double object_area(const SceneFrame& frame, int object) {
   }
   const TriangleMesh& mesh = frame.world_meshes[object];
   double area = 0.0;
-  for (const glm::uvec3& t : mesh.triangles) {
-    area += 0.5 * glm::length(glm::cross(mesh.positions[t.y] - mesh.positions[t.x], mesh.positions[t.z] - mesh.positions[t.x]));
-  }
+  for (const glm::uvec3& t : mesh.triangles) area += triangle_area(mesh, t);
   return area;
 }
 
 std::vector<SurfacePoint> sample_surfaces(const SceneFrame& frame, const std::vector<int>& objects, size_t count,
                                           Random& random, double& total_area) {
+  // Per-object samplers, built once: analytic parts by area (in object space; the transform scales
+  // every part alike) or world-space triangles by area.
   std::vector<double> areas;
-  for (int object : objects) areas.push_back(object_area(frame, object));
+  std::vector<std::vector<Part>> parts(objects.size());
+  std::vector<Distribution1D> part_choice(objects.size()), triangle_choice(objects.size());
+  for (size_t i = 0; i < objects.size(); ++i) {
+    const SceneObject& object = frame.scene->objects[objects[i]];
+    std::vector<double> piece_areas;
+    if (object.shape.is_analytic()) {
+      parts[i] = analytic_parts(object.shape);
+      for (const Part& part : parts[i]) piece_areas.push_back(part.area);
+      part_choice[i] = Distribution1D(piece_areas);
+      areas.push_back(part_choice[i].total() * area_scale(frame.transforms[objects[i]]));
+    } else {
+      const TriangleMesh& mesh = frame.world_meshes[objects[i]];
+      for (const glm::uvec3& t : mesh.triangles) piece_areas.push_back(triangle_area(mesh, t));
+      triangle_choice[i] = Distribution1D(piece_areas);
+      areas.push_back(triangle_choice[i].total());
+    }
+  }
   Distribution1D object_choice(areas);
   total_area = object_choice.total();
   std::vector<SurfacePoint> points;
   if (total_area <= 0.0) return points;
   points.reserve(count);
-  // Per-object samplers, built once.
-  std::vector<Distribution1D> part_choice(objects.size()), triangle_choice(objects.size());
-  for (size_t i = 0; i < objects.size(); ++i) {
-    const SceneObject& object = frame.scene->objects[objects[i]];
-    if (object.shape.is_analytic()) {
-      std::vector<double> part_areas;
-      for (const Part& part : analytic_parts(object.shape)) part_areas.push_back(part.area);
-      part_choice[i] = Distribution1D(part_areas);
-    } else {
-      const TriangleMesh& mesh = frame.world_meshes[objects[i]];
-      std::vector<double> triangle_areas;
-      for (const glm::uvec3& t : mesh.triangles) {
-        triangle_areas.push_back(
-            0.5 * glm::length(glm::cross(mesh.positions[t.y] - mesh.positions[t.x], mesh.positions[t.z] - mesh.positions[t.x])));
-      }
-      triangle_choice[i] = Distribution1D(triangle_areas);
-    }
-  }
   for (size_t n = 0; n < count; ++n) {
     double probability;
     size_t index = object_choice.sample(random.uniform_double(), probability);
@@ -226,8 +228,7 @@ std::vector<SurfacePoint> sample_surfaces(const SceneFrame& frame, const std::ve
     SurfacePoint point;
     point.object = object;
     if (scene_object.shape.is_analytic()) {
-      std::vector<Part> parts = analytic_parts(scene_object.shape);
-      int surface = parts[part_choice[index].sample(random.uniform_double(), probability)].surface;
+      int surface = parts[index][part_choice[index].sample(random.uniform_double(), probability)].surface;
       glm::dvec3 local = sample_part(scene_object.shape, surface, random);
       point.position = transform.point(Vec3(local));
       point.normal = transform.normal(Vec3(analytic_normal(scene_object.shape, surface, local)));

@@ -69,13 +69,16 @@ VulkanPinhole::VulkanPinhole(gpu::Context& context)
 
 VulkanPinhole::~VulkanPinhole() = default;
 
-void VulkanPinhole::upload_frame(const PinholeFrameData& frame) {
+void VulkanPinhole::upload_samples(const PinholeFrameData& frame) {
   put(context_, sample_positions_, frame.sample_positions);
   put(context_, sample_normals_, frame.sample_normals);
   put(context_, materials_, frame.materials);
+  if (frame.filtering != 0) put(context_, differentials_, frame.differentials);
+}
+
+void VulkanPinhole::upload_light_map(const PinholeFrameData& frame) {
   put(context_, cube_map_, frame.cube_map);
   if (frame.filtering != 0) {
-    put(context_, differentials_, frame.differentials);
     texture_ = std::make_unique<gpu::CubeTexture>(context_, frame.resolution, cube_pyramid(frame.cube_map, frame.resolution),
                                                   frame.filtering == 2);
   }

@@ -15,9 +15,16 @@ class VulkanPinhole {
  public:
   explicit VulkanPinhole(gpu::Context& context);
   ~VulkanPinhole();
-  // Uploads the per-frame data (samples, materials, cube map; when filtering, the differentials and a
-  // mip-mapped cube texture whose levels are 2 x 2 box averages) of `frame`.
-  void upload_frame(const PinholeFrameData& frame);
+  // Uploads the reflector samples, their materials and, when filtering, their differentials.
+  void upload_samples(const PinholeFrameData& frame);
+  // Uploads the light cube map and, when filtering, a mip-mapped cube texture of it whose levels are
+  // 2 x 2 box averages. Needed only when the map changes.
+  void upload_light_map(const PinholeFrameData& frame);
+  // Both.
+  void upload_frame(const PinholeFrameData& frame) {
+    upload_samples(frame);
+    upload_light_map(frame);
+  }
   // Uploads the receivers of `frame`, dispatches, and returns RGBA irradiance per pixel; gpu_ms gets the
   // kernel's duration from timestamp queries.
   std::vector<float> render(const PinholeFrameData& frame, double& gpu_ms);
