@@ -2,10 +2,11 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include <fmt/format.h>
+
+#include "core/files.h"
 
 namespace causticbench {
 
@@ -29,16 +30,7 @@ std::string format_range(double min_value, double max_value) {
 
 }  // namespace
 
-ConfigNode ConfigNode::load_file(const std::string& path) {
-  if (!std::filesystem::exists(path)) {
-    throw InputError(fmt::format("{}: file not found", path));
-  }
-  std::ifstream stream(path);
-  if (!stream) throw InputError(fmt::format("{}: cannot open file for reading", path));
-  std::stringstream buffer;
-  buffer << stream.rdbuf();
-  return load_string(buffer.str(), path);
-}
+ConfigNode ConfigNode::load_file(const std::string& path) { return load_string(read_text(path), path); }
 
 ConfigNode ConfigNode::load_string(const std::string& text, const std::string& name) {
   try {

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include <unistd.h>
@@ -22,6 +23,15 @@ void write_text_atomically(const std::string& path, const std::string& text) {
     if (!stream) throw std::runtime_error(fmt::format("{}: write failed", temporary));
   }
   std::filesystem::rename(temporary, path);
+}
+
+std::string read_text(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw InputError(fmt::format("{}: file not found", path));
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream) throw InputError(fmt::format("{}: cannot open file for reading", path));
+  std::stringstream buffer;
+  buffer << stream.rdbuf();
+  return buffer.str();
 }
 
 void ensure_folder(const std::string& path) {

@@ -7,6 +7,8 @@
 namespace causticbench {
 
 void write_text_atomically(const std::string& path, const std::string& text);
+// The whole file; InputError naming it when it does not exist or cannot be read.
+std::string read_text(const std::string& path);
 // Creates the folder (and parents); throws InputError if it exists as a file or cannot be created.
 void ensure_folder(const std::string& path);
 

@@ -10,6 +10,12 @@ size_t GBuffer::receiver_count() const {
   return count;
 }
 
+void GBuffer::clear_outside_receivers(Image& image) const {
+  for (size_t pixel = 0; pixel < pixel_count(); ++pixel) {
+    if (!receiver[pixel]) image.set_rgb(pixel, Color(0.0f));
+  }
+}
+
 Image GBuffer::to_image() const {
   Image image(width, height, 12);
   for (size_t i = 0; i < pixel_count(); ++i) {

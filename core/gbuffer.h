@@ -21,6 +21,9 @@ struct GBuffer {
 
   size_t pixel_count() const { return static_cast<size_t>(width) * height; }
   size_t receiver_count() const;
+  // Zeroes the RGB of every pixel that is not a receiver: masked pixels carry no caustic value,
+  // whatever a method wrote there.
+  void clear_outside_receivers(Image& image) const;
   // position/normal/albedo/object/mask/footprint as a multi-channel EXR-ready image (12 channels).
   Image to_image() const;
   static constexpr int kReceiverChannel = 10;  // the receiver mask's channel in to_image()

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "core/files.h"
+
 namespace causticbench {
 
 bool Scene::has_specular_object() const {
@@ -62,10 +64,11 @@ BoundingSphere sphere_around(const std::vector<Vec3>& points) {
 
 }  // namespace
 
-Scene load_scene(const std::string& path) {
-  ConfigNode root = ConfigNode::load_file(path);
+Scene load_scene(const std::string& path) { return load_scene_text(read_text(path), path); }
+
+Scene load_scene_text(const std::string& text, const std::string& path) {
   std::string folder = std::filesystem::path(path).parent_path().string();
-  return read_scene(root, folder.empty() ? "." : folder);
+  return read_scene(ConfigNode::load_string(text, path), folder.empty() ? "." : folder);
 }
 
 Scene load_scene_from_string(const std::string& text, const std::string& name, const std::string& folder) {

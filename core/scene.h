@@ -32,6 +32,8 @@ struct Scene {
 
 // Reads and validates a scene file; every error is an InputError with file, line and column.
 Scene load_scene(const std::string& path);
+// A scene file's text already read from `path` (assets resolve against path's folder, as load_scene's do).
+Scene load_scene_text(const std::string& text, const std::string& path);
 Scene load_scene_from_string(const std::string& text, const std::string& name, const std::string& folder);
 
 // Overrides applied after loading (command line or experiment): resolution and frame count.

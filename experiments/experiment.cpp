@@ -1,13 +1,13 @@
 #include "experiments/experiment.h"
 
 #include <filesystem>
-#include <fstream>
 #include <regex>
 #include <sstream>
 
 #include <fmt/format.h>
 #include <xxhash.h>
 
+#include "core/files.h"
 #include "metrics/metrics.h"
 
 namespace causticbench {
@@ -96,13 +96,6 @@ bool record_matches_filter(const nlohmann::json& record, const std::string& filt
 
 namespace {
 
-std::string read_text(const std::string& path) {
-  std::ifstream stream(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << stream.rdbuf();
-  return buffer.str();
-}
-
 using SweepLists = std::vector<std::pair<std::string, std::vector<ParamDict::Entry>>>;
 
 SweepLists read_lists(const ConfigNode& node) {
@@ -137,8 +130,6 @@ void read_fixed(const ConfigNode& node, KnobAssignment& fixed, const MethodInfo&
     fixed[key] = ParamDict::Entry{value.as_string(), value.location()};
   }
 }
-
-std::string format_knob_value(const ParamValue& value) { return format_param_value(value); }
 
 nlohmann::json read_overrides(const ConfigNode& node, Scene& scene) {
   nlohmann::json applied = nlohmann::json::object();
@@ -390,8 +381,10 @@ Experiment load_experiment(const std::string& path) {
                       "'" + scene_path.string() + "', which does not exist");
   }
   experiment.scene_path = scene_path.lexically_normal().string();
-  experiment.scene_hash = hash_text(read_text(experiment.scene_path));
-  SceneVariant base{"default", nlohmann::json::object(), load_scene(experiment.scene_path), ""};
+  // Read once: the hash is of exactly the text that is parsed.
+  std::string scene_text = read_text(experiment.scene_path);
+  experiment.scene_hash = hash_text(scene_text);
+  SceneVariant base{"default", nlohmann::json::object(), load_scene_text(scene_text, experiment.scene_path), ""};
   if (std::optional<ConfigNode> overrides = root.optional_child("overrides")) {
     base.overrides = read_overrides(*overrides, base.scene);
   }
@@ -471,21 +464,27 @@ Experiment load_experiment(const std::string& path) {
       }
     }
     entry.finish();
+    // The knobs do not depend on the variant: resolve them once, then run them on every variant.
+    std::vector<std::pair<RunSpec, std::string>> resolved;  // knobs, swept text
+    for (const KnobAssignment& assignment : expand_sweep(fixed, sweep, zip)) {
+      ParamDict dict;
+      for (const auto& [name, value] : assignment) dict.set(name, value.text, value.where);
+      RunSpec knobs;
+      knobs.method = info.name;
+      knobs.params = dict.resolve(info.params, info.name);
+      knobs.build = select_phase(knobs.params, info.params, ParamPhase::build);
+      knobs.render = select_phase(knobs.params, info.params, ParamPhase::render);
+      std::string swept_text;
+      for (const std::string& name : varied) {
+        knobs.swept[name] = format_param_value(knobs.params.values().at(name));
+        swept_text += fmt::format(" {}={}", name, knobs.swept[name]);
+      }
+      resolved.emplace_back(std::move(knobs), swept_text);
+    }
     for (size_t v = 0; v < experiment.variants.size(); ++v) {
       const SceneVariant& variant = experiment.variants[v];
-      for (const KnobAssignment& assignment : expand_sweep(fixed, sweep, zip)) {
-        ParamDict dict;
-        for (const auto& [name, value] : assignment) dict.set(name, value.text, value.where);
-        RunSpec run;
-        run.method = info.name;
-        run.params = dict.resolve(info.params, info.name);
-        run.build = select_phase(run.params, info.params, ParamPhase::build);
-        run.render = select_phase(run.params, info.params, ParamPhase::render);
-        std::string swept_text;
-        for (const std::string& name : varied) {
-          run.swept[name] = format_knob_value(run.params.values().at(name));
-          swept_text += fmt::format(" {}={}", name, run.swept[name]);
-        }
+      for (const auto& [knobs, swept_text] : resolved) {
+        RunSpec run = knobs;
         run.variant = v;
         run.label = label + swept_text + (experiment.variants.size() > 1 ? " @" + variant.name : "");
         run.spec = {{"scene_hash", experiment.scene_hash}, {"overrides", variant.overrides},

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -64,42 +65,49 @@ struct PosedFrame {
   PosedFrame(const Scene& scene, int index) : frame(scene, index), tracer(frame), gbuffer(render_gbuffer(tracer)) {}
 };
 
-struct ReferenceFrame {
-  Image caustic;
-  std::vector<uint8_t> mask;
+// The frames of one scene variant, posed once and shared by its reference and all its runs (methods
+// take them by const reference), with the reference's E_c of each.
+struct VariantFrames {
+  std::map<int, std::unique_ptr<PosedFrame>> posed;
+  std::map<int, Image> reference;
 };
 
-// Loads the cached reference frame, or computes and stores it.
-ReferenceFrame reference_frame(const Experiment& experiment, const SceneVariant& variant, const ResultPaths& paths, int frame) {
+// Poses the variant's frames and loads each cached reference frame, or computes and stores it; then
+// rewrites the reference folder's record.json summary if a frame was computed.
+VariantFrames variant_frames(const Experiment& experiment, const SceneVariant& variant, const ResultPaths& paths) {
+  VariantFrames frames;
   fs::path folder = paths.reference(variant.reference_key);
   fs::create_directories(folder);
-  std::string name = ResultPaths::frame_file(frame);
-  fs::path image = folder / (name + ".exr"), record = folder / (ResultPaths::frame_file(frame, "record") + ".json");
-  PosedFrame posed(variant.scene, frame);
-  ReferenceFrame result;
-  result.mask = posed.gbuffer.receiver;
-  if (fs::is_regular_file(record) && fs::is_regular_file(image)) {
-    result.caustic = read_exr(image.string());
-    return result;
+  bool computed = false;
+  for (int frame : experiment.frames) {
+    const PosedFrame& posed = *(frames.posed[frame] = std::make_unique<PosedFrame>(variant.scene, frame));
+    fs::path image = folder / (ResultPaths::frame_file(frame) + ".exr");
+    fs::path record = folder / (ResultPaths::frame_file(frame, "record") + ".json");
+    if (fs::is_regular_file(record) && fs::is_regular_file(image)) {
+      frames.reference[frame] = read_exr(image.string());
+      continue;
+    }
+    fmt::print(stderr, "reference {} frame {}{}: computing (cached in {})\n", variant.reference_key, frame,
+               experiment.variants.size() > 1 ? " of variant " + variant.name : "", folder.string());
+    std::unique_ptr<CausticMethod> method = create_method("reference");
+    const MethodInfo& info = method->info();
+    method->prepare(variant.scene, select_phase(experiment.reference_params, info.params, ParamPhase::build));
+    method->update(FrameContext{posed.frame, posed.tracer});
+    Image caustic = method->render(posed.gbuffer, select_phase(experiment.reference_params, info.params, ParamPhase::render));
+    posed.gbuffer.clear_outside_receivers(caustic);
+    write_exr(caustic, image.string());
+    write_exr(posed.gbuffer.to_image(), (folder / (ResultPaths::frame_file(frame, "gbuffer") + ".exr")).string());
+    nlohmann::json frame_record = method->record();
+    frame_record["frame"] = frame;
+    frame_record["params"] = experiment.reference_params.to_json();
+    write_text_atomically(record.string(), frame_record.dump(2) + "\n");
+    frames.reference[frame] = std::move(caustic);
+    computed = true;
   }
-  fmt::print(stderr, "reference {} frame {}{}: computing (cached in {})\n", variant.reference_key, frame,
-             experiment.variants.size() > 1 ? " of variant " + variant.name : "", folder.string());
-  std::unique_ptr<CausticMethod> method = create_method("reference");
-  const MethodInfo& info = method->info();
-  method->prepare(variant.scene, select_phase(experiment.reference_params, info.params, ParamPhase::build));
-  method->update(FrameContext{posed.frame, posed.tracer});
-  result.caustic = method->render(posed.gbuffer, select_phase(experiment.reference_params, info.params, ParamPhase::render));
-  for (size_t pixel = 0; pixel < posed.gbuffer.pixel_count(); ++pixel) {
-    if (!posed.gbuffer.receiver[pixel]) result.caustic.set_rgb(pixel, Color(0.0f));
-  }
-  write_exr(result.caustic, image.string());
-  write_exr(posed.gbuffer.to_image(), (folder / (ResultPaths::frame_file(frame, "gbuffer") + ".exr")).string());
-  nlohmann::json frame_record = method->record();
-  frame_record["frame"] = frame;
-  frame_record["params"] = experiment.reference_params.to_json();
-  write_text_atomically(record.string(), frame_record.dump(2) + "\n");
-  // record.json summarises every stored frame; its top level is the first frame's record.
-  nlohmann::json summary = nlohmann::json::object(), frames = nlohmann::json::object();
+  if (!computed) return frames;
+  // record.json summarises every stored frame (of this and earlier experiments); its top level is the
+  // first frame's record.
+  nlohmann::json summary = nlohmann::json::object(), stored_frames = nlohmann::json::object();
   int first = -1;
   for (const auto& entry : fs::directory_iterator(folder)) {
     std::string file = entry.path().filename().string();
@@ -107,17 +115,31 @@ ReferenceFrame reference_frame(const Experiment& experiment, const SceneVariant&
     std::ifstream stream(entry.path());
     nlohmann::json stored = nlohmann::json::parse(stream);
     int index = stored["frame"].get<int>();
-    frames[std::to_string(index)] = {{"noise_floor", stored["noise_floor"]}, {"passes", stored["passes"]},
-                                     {"seconds", stored["seconds"]}, {"stop_reason", stored["stop_reason"]}};
+    stored_frames[std::to_string(index)] = {{"noise_floor", stored["noise_floor"]}, {"passes", stored["passes"]},
+                                            {"seconds", stored["seconds"]}, {"stop_reason", stored["stop_reason"]}};
     if (first < 0 || index < first) {
       first = index;
       summary = stored;
     }
   }
-  summary["frames"] = frames;
+  summary["frames"] = stored_frames;
   summary["key"] = variant.reference_key;
   write_text_atomically((folder / "record.json").string(), summary.dump(2) + "\n");
-  return result;
+  return frames;
+}
+
+// The fields that say which run a record is, for finished and failed runs alike.
+nlohmann::json run_identity(const Experiment& experiment, const RunSpec& run) {
+  const SceneVariant& variant = experiment.variants.at(run.variant);
+  return {{"key", run.key},
+          {"method", run.method},
+          {"label", run.label},
+          {"variant", variant.name},
+          {"reference_key", variant.reference_key},
+          {"build", run.build.to_json()},
+          {"render", run.render.to_json()},
+          {"swept", run.swept},
+          {"spec", run.spec}};
 }
 
 struct RunOutcome {
@@ -127,28 +149,22 @@ struct RunOutcome {
 
 // Times and measures one run whose method has been prepared.
 RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, CausticMethod& method, double prepare_seconds,
-                       const std::map<int, ReferenceFrame>& references) {
-  const SceneVariant& variant = experiment.variants.at(run.variant);
+                       const VariantFrames& variant_frames) {
   RunOutcome outcome;
   nlohmann::json frames = nlohmann::json::array();
   std::vector<double> all_update, all_render, all_frame, all_gpu;
   std::map<std::string, double> metric_sums;
-  std::vector<Image> test_sequence, reference_sequence;
-  std::vector<std::vector<uint8_t>> masks;
   std::vector<std::string> per_frame_metrics;
   for (const std::string& name : experiment.metrics) {
     if (find_metric(name).per_frame) per_frame_metrics.push_back(name);
   }
-  if (std::find(per_frame_metrics.begin(), per_frame_metrics.end(), "nonfinite_pixels") == per_frame_metrics.end()) {
-    per_frame_metrics.push_back("nonfinite_pixels");
-  }
+  const bool flicker = experiment.frames.size() > 1 && std::count(experiment.metrics.begin(), experiment.metrics.end(),
+                                                                  std::string("temporal_flicker"));
+  std::vector<Image> test_sequence, reference_sequence;
+  std::vector<std::vector<uint8_t>> masks;
   size_t nonfinite = 0;
-  size_t receiver_pixels = 0;
   for (int frame : experiment.frames) {
-    PosedFrame posed(variant.scene, frame);
-    if (frame == experiment.frames.front()) {
-      receiver_pixels = posed.gbuffer.receiver_count();
-    }
+    const PosedFrame& posed = *variant_frames.posed.at(frame);
     FrameContext context{posed.frame, posed.tracer};
     Image image;
     // One warm-up, then the timed repetitions.
@@ -172,54 +188,43 @@ RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, Caustic
       all_render.push_back(render_ms.back());
       all_frame.push_back(update_ms.back() + render_ms.back());
     }
-    for (size_t pixel = 0; pixel < posed.gbuffer.pixel_count(); ++pixel) {
-      if (!posed.gbuffer.receiver[pixel]) image.set_rgb(pixel, Color(0.0f));
-    }
-    const ReferenceFrame& reference = references.at(frame);
-    MetricValues values = compute_metrics(image, reference.caustic, reference.mask, per_frame_metrics);
+    posed.gbuffer.clear_outside_receivers(image);
+    const Image& reference = variant_frames.reference.at(frame);
+    MetricValues values = compute_metrics(image, reference, posed.gbuffer.receiver, per_frame_metrics);
     nonfinite += values.nonfinite_pixels;
     for (const auto& [name, value] : values.values) metric_sums[name] += value;
     std::string file = ResultPaths::frame_file(frame) + ".exr";
     frames.push_back({{"frame", frame}, {"image", file}, {"update_ms", update_ms}, {"render_ms", render_ms},
                       {"metrics", values.values}});
     if (!gpu_ms.empty()) frames.back()["gpu_render_ms"] = gpu_ms;
-    test_sequence.push_back(image);
-    reference_sequence.push_back(reference.caustic);
-    masks.push_back(reference.mask);
+    if (flicker) {
+      test_sequence.push_back(image);
+      reference_sequence.push_back(reference);
+      masks.push_back(posed.gbuffer.receiver);
+    }
     outcome.images.push_back({frame, std::move(image)});
   }
   nlohmann::json metrics = nlohmann::json::object();
   for (const auto& [name, sum] : metric_sums) {
     metrics[name] = name == "nonfinite_pixels" ? sum : sum / static_cast<double>(experiment.frames.size());
   }
-  if (experiment.frames.size() > 1 &&
-      std::find(experiment.metrics.begin(), experiment.metrics.end(), "temporal_flicker") != experiment.metrics.end()) {
-    metrics["temporal_flicker"] = temporal_flicker(test_sequence, reference_sequence, masks);
-  }
+  if (flicker) metrics["temporal_flicker"] = temporal_flicker(test_sequence, reference_sequence, masks);
   nlohmann::json counters = nlohmann::json::object();
   for (const auto& [name, value] : method.counters()) counters[name] = value;
-  outcome.record = {{"key", run.key},
-                    {"status", nonfinite ? "failed" : "ok"},
-                    {"error", nonfinite ? fmt::format("the output has {} non-finite pixels", nonfinite) : ""},
-                    {"method", run.method},
-                    {"label", run.label},
-                    {"variant", variant.name},
-                    {"reference_key", variant.reference_key},
-                    {"receiver_pixels", receiver_pixels},
-                    {"build", run.build.to_json()},
-                    {"render", run.render.to_json()},
-                    {"swept", run.swept},
-                    {"frames", frames},
-                    {"prepare_seconds", prepare_seconds},
-                    {"timings", {{"update_ms_min", minimum(all_update)}, {"update_ms_median", median(all_update)},
-                                 {"render_ms_min", minimum(all_render)}, {"render_ms_median", median(all_render)},
-                                 {"frame_ms_min", minimum(all_frame)}, {"frame_ms_median", median(all_frame)}}},
-                    {"metrics", metrics},
-                    {"memory_bytes", method.memory_bytes()},
-                    {"peak_rss_bytes", peak_rss_bytes()},
-                    {"counters", counters},
-                    {"method_record", method.record()},
-                    {"spec", run.spec}};
+  outcome.record = run_identity(experiment, run);
+  outcome.record.update({{"status", nonfinite ? "failed" : "ok"},
+                         {"error", nonfinite ? fmt::format("the output has {} non-finite pixels", nonfinite) : ""},
+                         {"receiver_pixels", variant_frames.posed.at(experiment.frames.front())->gbuffer.receiver_count()},
+                         {"frames", frames},
+                         {"prepare_seconds", prepare_seconds},
+                         {"timings", {{"update_ms_min", minimum(all_update)}, {"update_ms_median", median(all_update)},
+                                      {"render_ms_min", minimum(all_render)}, {"render_ms_median", median(all_render)},
+                                      {"frame_ms_min", minimum(all_frame)}, {"frame_ms_median", median(all_frame)}}},
+                         {"metrics", metrics},
+                         {"memory_bytes", method.memory_bytes()},
+                         {"peak_rss_bytes", peak_rss_bytes()},
+                         {"counters", counters},
+                         {"method_record", method.record()}});
   if (!all_gpu.empty()) {
     outcome.record["timings"]["gpu_render_ms_min"] = minimum(all_gpu);
     outcome.record["timings"]["gpu_render_ms_median"] = median(all_gpu);
@@ -238,12 +243,11 @@ void store_run(const ResultPaths& paths, const Experiment& experiment, const Run
 
 void store_failure(const ResultPaths& paths, const Experiment& experiment, const RunSpec& run, const std::string& error) {
   RunOutcome outcome;
-  outcome.record = {{"key", run.key},          {"status", "failed"},           {"error", error},
-                    {"method", run.method},    {"label", run.label},           {"build", run.build.to_json()},
-                    {"variant", experiment.variants.at(run.variant).name},
-                    {"reference_key", experiment.variants.at(run.variant).reference_key},
-                    {"render", run.render.to_json()}, {"swept", run.swept},    {"frames", nlohmann::json::array()},
-                    {"metrics", nlohmann::json::object()}, {"spec", run.spec}};
+  outcome.record = run_identity(experiment, run);
+  outcome.record.update({{"status", "failed"},
+                         {"error", error},
+                         {"frames", nlohmann::json::array()},
+                         {"metrics", nlohmann::json::object()}});
   store_run(paths, experiment, outcome);
 }
 
@@ -279,16 +283,6 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& option
   write_text_atomically((fs::path(folder) / "environment.json").string(), environment.dump(2) + "\n");
   write_text_atomically((fs::path(folder) / "experiment.json").string(), experiment.to_json().dump(2) + "\n");
 
-  // The references of the variants that have pending runs, computed (or loaded) before any run.
-  std::map<size_t, std::map<int, ReferenceFrame>> references;
-  for (const RunSpec* run : pending) {
-    if (references.count(run->variant)) continue;
-    std::map<int, ReferenceFrame>& frames = references[run->variant];
-    for (int frame : experiment.frames) {
-      frames[frame] = reference_frame(experiment, experiment.variants[run->variant], paths, frame);
-    }
-  }
-
   // Group pending runs by (variant, method, build knobs): prepare once per group.
   std::vector<std::vector<const RunSpec*>> groups;
   std::map<std::string, size_t> group_of;
@@ -298,9 +292,18 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& option
     if (inserted) groups.emplace_back();
     groups[it->second].push_back(run);
   }
+  // One variant after another, so that only one variant's frames are posed at a time.
+  std::stable_sort(groups.begin(), groups.end(), [](const auto& a, const auto& b) { return a.front()->variant < b.front()->variant; });
   Progress progress(fmt::format("run {}", experiment.name), static_cast<double>(pending.size()));
   size_t done = 0;
+  std::optional<size_t> current_variant;
+  VariantFrames frames;
   for (const auto& group : groups) {
+    if (current_variant != group.front()->variant) {
+      current_variant = group.front()->variant;
+      frames = VariantFrames{};
+      frames = variant_frames(experiment, experiment.variants[*current_variant], paths);
+    }
     std::unique_ptr<CausticMethod> method = create_method(group.front()->method);
     double prepare_seconds = 0.0;
     std::string prepare_error;
@@ -316,7 +319,7 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& option
     for (const RunSpec* run : group) {
       try {
         if (!prepare_error.empty()) throw std::runtime_error(prepare_error);
-        RunOutcome outcome = measure_run(experiment, *run, *method, prepare_seconds, references.at(run->variant));
+        RunOutcome outcome = measure_run(experiment, *run, *method, prepare_seconds, frames);
         store_run(paths, experiment, outcome);
         if (outcome.record["status"] == "ok") {
           ++summary.completed;

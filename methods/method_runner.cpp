@@ -62,10 +62,7 @@ FrameResult run_frame(const RenderRequest& request, const CheckedRequest& checke
   result.memory_bytes = method->memory_bytes();
   result.counters = method->counters();
   result.method_record = method->record();
-  // Masked pixels carry no caustic value, whatever the method wrote there.
-  for (size_t pixel = 0; pixel < result.gbuffer.pixel_count(); ++pixel) {
-    if (!result.gbuffer.receiver[pixel]) result.caustic.set_rgb(pixel, Color(0.0f));
-  }
+  result.gbuffer.clear_outside_receivers(result.caustic);
   if (!request.dump_folder.empty()) {
     method->dump_frame(result.gbuffer, select_phase(checked.params, info.params, ParamPhase::render), result.caustic,
                        request.dump_folder);

@@ -196,9 +196,7 @@ MetricValues compute_metrics(const Image& test, const Image& reference, const st
   const double mse = count ? squared_error / (3.0 * static_cast<double>(count)) : kNaN;
   for (const std::string& name : names) {
     double value = kNaN;
-    if (name == "nonfinite_pixels") {
-      value = static_cast<double>(result.nonfinite_pixels);
-    } else if (count == 0) {
+    if (count == 0) {
       value = kNaN;
     } else if (name == "mse") {
       value = mse;
