@@ -314,12 +314,13 @@ void estimate_differentials(SampleSet& set, double radius) {
   std::unordered_map<uint64_t, std::vector<uint32_t>> cells;
   for (size_t i = 0; i < set.dense.size(); ++i) cells[CellKey::of(set.dense[i].position, inverse)].push_back(static_cast<uint32_t>(i));
   float radius2 = static_cast<float>(radius * radius);
+  std::vector<std::pair<glm::dvec2, glm::dvec3>> neighbours;  // reused: one allocation, not one per sample
   for (ReflectorSample& sample : set.samples) {
     const Vec3 p = sample.position, n = sample.normal;
     Vec3 t, b;
     orthonormal_basis(n, t, b);
     // Centred least squares of n_i against (u_i, v_i).
-    std::vector<std::pair<glm::dvec2, glm::dvec3>> neighbours;
+    neighbours.clear();
     int64_t cx = static_cast<int64_t>(std::floor(p.x * inverse)), cy = static_cast<int64_t>(std::floor(p.y * inverse)),
             cz = static_cast<int64_t>(std::floor(p.z * inverse));
     for (int64_t dz = -1; dz <= 1; ++dz) {
