@@ -16,6 +16,7 @@ struct RenderOptions {
   std::string resolution;  // "WxH" or empty
   int direct_samples = 16;
   std::string dump_frame;  // folder for causticbench-gpubench, or empty
+  std::string build_cache;  // folder of stored builds (e.g. results/builds), or empty
 };
 
 int run_render(const RenderOptions& options);

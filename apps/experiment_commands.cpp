@@ -13,6 +13,7 @@ namespace causticbench {
 int run_experiment_command(const ExperimentOptions& options) {
   // Everything is checked before any work starts.
   Experiment experiment = load_experiment(options.experiment);
+  if (!options.filter.empty()) check_filter_terms(experiment, options.filter);
   RunOptions run;
   run.results = options.results;
   run.dry_run = options.dry_run;

@@ -1,4 +1,6 @@
+#include <cmath>
 #include <filesystem>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -6,7 +8,7 @@
 #include "core/errors.h"
 #include "core/image.h"
 #include "core/image_statistics.h"
-#include "methods/pinhole/frame_data.h"
+#include "methods/frame_dump.h"
 
 namespace causticbench {
 
@@ -23,28 +25,40 @@ Image rgba_image(const std::vector<float>& rgba, uint32_t width, uint32_t height
 
 }  // namespace
 
-// The tolerance: both backends do the same float arithmetic in a different order and with different
-// square roots and divisions, so they differ by rounding only: relMSE below 1e-6 and total flux within
-// 1e-4. A real disagreement (a wrong texel, a missed sample) is orders of magnitude larger.
+// The dump's method (method.txt) decides how to read the frame's size and receivers and how closely the
+// backends must agree (its FrameDumpFormat in methods/frame_dumps.cpp).
 int run_gpu_compare(const std::string& folder) {
   std::string cpu_path = folder + "/cpu_irradiance.bin", gpu_path = folder + "/vulkan_irradiance.bin";
-  for (const std::string& path : {folder + "/frame.txt", cpu_path, gpu_path}) {
-    if (!std::filesystem::is_regular_file(path)) {
-      throw InputError(path + ": not found; write the folder with `causticbench render ... --dump-frame " + folder +
-                       "` (backend cpu) and run `causticbench-gpubench " + folder + "` first");
+  const FrameDumpFormat* format = nullptr;
+  FrameDumpInfo info;
+  std::vector<float> cpu_rgba, gpu_rgba;
+  // A missing or malformed dump is the user's input, not an internal error (exit 2, not 1 = disagree).
+  try {
+    format = &frame_dump_format(read_dump_method(folder));
+    info = format->read_info(folder);
+    for (const std::string& path : {cpu_path, gpu_path}) {
+      if (!std::filesystem::is_regular_file(path)) {
+        throw InputError(path + ": not found; write the folder with `causticbench render ... --dump-frame " + folder +
+                         "` (backend cpu) and run `causticbench-gpubench " + folder + "` first");
+      }
     }
+    cpu_rgba = read_floats(cpu_path);
+    gpu_rgba = read_floats(gpu_path);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::runtime_error& error) {
+    throw InputError(error.what());
   }
-  PinholeFrameData frame = read_frame_data(folder);
-  Image cpu = rgba_image(read_floats(cpu_path), frame.width, frame.height, cpu_path);
-  Image gpu = rgba_image(read_floats(gpu_path), frame.width, frame.height, gpu_path);
-  std::vector<uint8_t> mask(frame.pixel_count());
-  for (uint32_t pixel = 0; pixel < frame.pixel_count(); ++pixel) mask[pixel] = frame.is_receiver(pixel);
-  double relmse = relative_mse(gpu, cpu, mask);
-  double cpu_flux = masked_sum(cpu, mask), gpu_flux = masked_sum(gpu, mask);
+  Image cpu = rgba_image(cpu_rgba, info.width, info.height, cpu_path);
+  Image gpu = rgba_image(gpu_rgba, info.width, info.height, gpu_path);
+  double relmse = relative_mse(gpu, cpu, info.receivers);
+  double cpu_flux = masked_sum(cpu, info.receivers), gpu_flux = masked_sum(gpu, info.receivers);
   double ratio = cpu_flux > 0.0 ? gpu_flux / cpu_flux : (gpu_flux == 0.0 ? 1.0 : 0.0);
-  bool agree = relmse <= 1e-6 && std::abs(ratio - 1.0) <= 1e-4;
-  fmt::print("{}: vulkan against cpu: relMSE {:.3g} (tolerance 1e-6), flux ratio {:.8f} (tolerance 1 +- 1e-4): {}\n", folder,
-             relmse, ratio, agree ? "agree" : "DISAGREE");
+  bool agree = relmse <= format->relmse_tolerance && std::abs(ratio - 1.0) <= format->flux_tolerance;
+  fmt::print("{}: {} vulkan against cpu: relMSE {:.3g} (tolerance {:g}), flux ratio {:.8f} (tolerance 1 +- {:g}): {}\n",
+             folder, format->method, relmse, format->relmse_tolerance, ratio, format->flux_tolerance,
+             agree ? "agree" : "DISAGREE");
+  if (!agree) fmt::print("the tolerance: {}\n", format->tolerance_reason);
   return agree ? 0 : 1;
 }
 

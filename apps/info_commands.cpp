@@ -3,6 +3,7 @@
 #include "apps/commands.h"
 #include "core/scene.h"
 #include "experiments/experiment.h"
+#include "methods/describe.h"
 #include "methods/registry.h"
 
 namespace causticbench {
@@ -31,35 +32,7 @@ int run_list() {
 
 int run_describe(const std::string& name, bool markdown) {
   const MethodInfo& info = find_method(name).info();
-  auto phase = [](ParamPhase p) { return p == ParamPhase::build ? "build" : "render"; };
-  if (markdown) {
-    fmt::print("# `{}`\n\n{}\n\nPaper: {}\n\n", info.name, info.summary, info.paper);
-    fmt::print("| knob | phase | type | default | allowed | meaning |\n|---|---|---|---|---|---|\n");
-    for (const ParamSpec& spec : info.params) {
-      fmt::print("| `{}` | {} | {} | `{}` | {} | {} |\n", spec.name, phase(spec.phase), spec.type_name(),
-                 format_param_value(spec.default_value), spec.range_text(), spec.meaning);
-    }
-    fmt::print("\n## Capabilities\n\n| capability | supported |\n|---|---|\n");
-    for (const auto& [capability, value] : info.capabilities.entries()) {
-      fmt::print("| {} | {} |\n", capability, value ? "yes" : "no");
-    }
-    if (!info.capabilities.notes.empty()) {
-      fmt::print("\nNotes:\n\n");
-      for (const auto& [capability, note] : info.capabilities.notes) fmt::print("- {}: {}\n", capability, note);
-    }
-    return 0;
-  }
-  fmt::print("{}: {}\npaper: {}\n\nknobs (build knobs feed prepare(), render knobs feed render()):\n", info.name,
-             info.summary, info.paper);
-  for (const ParamSpec& spec : info.params) {
-    fmt::print("  {:<24} {:<6} {:<8} default {:<10} allowed {}\n      {}\n", spec.name, phase(spec.phase),
-               spec.type_name(), format_param_value(spec.default_value), spec.range_text(), spec.meaning);
-  }
-  fmt::print("\ncapabilities:\n");
-  for (const auto& [capability, value] : info.capabilities.entries()) {
-    fmt::print("  {:<26} {}\n", capability, value ? "yes" : "no");
-  }
-  for (const auto& [capability, note] : info.capabilities.notes) fmt::print("  note: {}: {}\n", capability, note);
+  fmt::print("{}", markdown ? describe_markdown(info) : describe_text(info));
   return 0;
 }
 

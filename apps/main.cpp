@@ -5,6 +5,15 @@
 #include "apps/commands.h"
 #include "core/errors.h"
 #include "core/progress.h"
+#include "methods/registry.h"
+
+namespace {
+
+// A bound for --threads only so that CLI11's message stays readable ("not in range 0 to 65536"); what
+// matters is that a negative count is refused.
+constexpr int kMaximumThreads = 65536;
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace causticbench;
@@ -25,13 +34,22 @@ int main(int argc, char** argv) {
   render_command->add_option("-s,--set", render.assignments, "knob=value, repeatable (see `causticbench describe METHOD`)");
   render_command->add_option("-o,--out", render.out, "output folder")->required();
   render_command->add_option("-f,--frame", render.frame, "frame index of an animated scene")->capture_default_str();
-  render_command->add_option("-t,--threads", render.threads, "worker threads (0: all cores)")->capture_default_str();
+  render_command->add_option("-t,--threads", render.threads, "worker threads (0: all cores)")
+      ->capture_default_str()->check(CLI::Range(0, kMaximumThreads));
   render_command->add_option("-r,--resolution", render.resolution, "override the camera resolution, WIDTHxHEIGHT");
   render_command->add_option("--direct-samples", render.direct_samples, "light samples per pixel for direct.exr")
       ->capture_default_str()->check(CLI::Range(1, 4096));
+  render_command->add_option("--build-cache", render.build_cache,
+                             "folder of stored builds (e.g. results/builds): a method that precomputes loads its build\n"
+                             "from there when stored and stores it otherwise (see docs/results-format.md)");
+  std::vector<std::string> dumpable;
+  for (const MethodEntry& method : method_registry()) {
+    if (method.info().frame_dump) dumpable.push_back(method.info().name);
+  }
   render_command->add_option("--dump-frame", render.dump_frame,
                              "also write the frame's GPU inputs and this backend's output into DIR, for\n"
-                             "causticbench-gpubench DIR and causticbench gpu-compare DIR (pinhole)");
+                             "causticbench-gpubench DIR and causticbench gpu-compare DIR (methods: " +
+                                 join(dumpable, ", ") + ")");
 
   ExperimentOptions experiment;
   CLI::App* run_command = app.add_subcommand(
@@ -45,7 +63,8 @@ int main(int argc, char** argv) {
   run_command->add_option("--filter", experiment.filter,
                           "only runs matching every comma-separated term: knob=value, method=NAME, or a word of the label");
   run_command->add_option("--shard", experiment.shard, "run only slice i of n (i/n, 0-based): the unit a scheduler hands out");
-  run_command->add_option("-t,--threads", experiment.threads, "worker threads (0: all cores)")->capture_default_str();
+  run_command->add_option("-t,--threads", experiment.threads, "worker threads (0: all cores)")
+      ->capture_default_str()->check(CLI::Range(0, kMaximumThreads));
   run_command->add_flag("!--no-report", experiment.report, "do not write the report after the runs");
 
   std::string report_folder;

@@ -8,6 +8,7 @@
 #include "core/image_statistics.h"
 #include "core/parallel.h"
 #include "methods/method_runner.h"
+#include "metrics/caustic_presence.h"
 
 namespace causticbench {
 
@@ -26,6 +27,19 @@ void parse_resolution(const std::string& text, int& width, int& height) {
   }
 }
 
+// A reference with no caustic in view is what stops an experiment (exit code 2): say so here already, by
+// the same rule (metrics/caustic_presence.h).
+void warn_if_reference_is_empty(const RenderOptions& options, const FrameResult& result, const Image& direct) {
+  if (options.method != "reference") return;
+  CausticPresence presence = measure_caustic_presence(result.caustic, direct, result.gbuffer.receiver);
+  if (!presence.empty()) return;
+  fmt::print(stderr,
+             "warning: the reference of scene {} has no caustic in view on frame {}: {}; {}. An experiment on this "
+             "scene and view stops before any method runs (exit code 2) unless it sets "
+             "`empty_reference_expected: true`.\n",
+             options.scene, options.frame, presence.describe(), kEmptyCausticHint);
+}
+
 int run_render(const RenderOptions& options) {
   // Everything is checked before any work starts.
   Scene scene = load_scene(options.scene);
@@ -39,6 +53,7 @@ int run_render(const RenderOptions& options) {
   request.method = options.method;
   request.frame = options.frame;
   request.dump_folder = options.dump_frame;
+  request.build_cache = options.build_cache;
   for (const std::string& assignment : options.assignments) request.params.set_assignment(assignment, "--set");
   CheckedRequest checked = check_request(request);
   ensure_folder(options.out);
@@ -67,6 +82,8 @@ int run_render(const RenderOptions& options) {
             caustic_mean > 0.0 ? static_cast<float>(0.18 / caustic_mean) : 1.0f);
 
   nlohmann::json counters = nlohmann::json::object();
+  nlohmann::json gpu_time = result.timings.gpu_render_milliseconds ? nlohmann::json(*result.timings.gpu_render_milliseconds)
+                                                                   : nlohmann::json(nullptr);
   for (const auto& [name, value] : result.counters) counters[name] = value;
   nlohmann::json record = {
       {"scene", options.scene},
@@ -79,6 +96,11 @@ int run_render(const RenderOptions& options) {
       {"timings", {{"prepare_seconds", result.timings.prepare_seconds},
                    {"update_milliseconds", result.timings.update_milliseconds},
                    {"render_milliseconds", result.timings.render_milliseconds}}},
+      {"prepare", {{"source", result.prepare.source},
+                   {"build_key", result.prepare.build_key},
+                   {"load_seconds", result.prepare.load_seconds},
+                   {"save_seconds", result.prepare.save_seconds}}},
+      {"gpu_render_milliseconds", gpu_time},
       {"memory_bytes", result.memory_bytes},
       {"counters", counters},
       {"method_record", result.method_record},
@@ -86,6 +108,7 @@ int run_render(const RenderOptions& options) {
       {"environment", environment_json(options.threads)},
       {"files", {"caustic.exr", "direct.exr", "gbuffer.exr", "composite.png", "caustic.png"}}};
   write_text_atomically((fs::path(out) / "record.json").string(), record.dump(2) + "\n");
+  warn_if_reference_is_empty(options, result, direct);
   fmt::print("wrote {}/caustic.exr, direct.exr, gbuffer.exr, composite.png, caustic.png, record.json\n", out);
   return 0;
 }

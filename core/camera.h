@@ -1,6 +1,9 @@
 // Pinhole (perspective) and orthographic cameras; one primary ray through each pixel centre.
 #pragma once
 
+#include <optional>
+#include <string>
+
 #include "core/config.h"
 #include "core/math.h"
 #include "core/transform.h"
@@ -18,6 +21,23 @@ struct Camera {
   int width = 256;
   int height = 256;
 };
+
+// What keeps a camera from making rays at one frame: the key to blame, what it should be, what it is.
+struct CameraDefect {
+  std::string key;
+  std::string expected;
+  std::string found;
+};
+
+// Nothing when the camera can make finite primary rays at `frame`: its position off look_at, its up
+// vector non-zero and not parallel to the view direction, and the single-precision basis that
+// CameraFrame builds finite and orthonormal.
+std::optional<CameraDefect> camera_defect(const Camera& camera, double frame);
+
+// Checks the camera at every frame in [0, frames) (only frame 0 when nothing moves it), so that no
+// frame reaches the tracer with a degenerate view. `node` is the camera map being read (a scene's
+// camera or an experiment's camera override); an InputError names the first defective frame.
+void check_camera_at_every_frame(const Camera& camera, int frames, const ConfigNode& node);
 
 // The camera posed for one frame, ready to make rays.
 class CameraFrame {
@@ -37,6 +57,8 @@ class CameraFrame {
   int width_, height_;
 };
 
+// Reads a scene's camera map. Its poses are checked by check_camera_at_every_frame, once the scene's
+// frame count is known.
 Camera read_camera(const ConfigNode& node);
 
 }  // namespace causticbench

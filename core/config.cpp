@@ -28,6 +28,44 @@ std::string format_range(double min_value, double max_value) {
   return fmt::format("a number in [{}, {}]", min_value, max_value);
 }
 
+SourceLocation location_of_mark(const std::string& file, const YAML::Mark& mark) {
+  return SourceLocation{file, mark.line + 1, mark.column + 1};
+}
+
+std::string where_in(const std::string& path) { return path.empty() ? "at the top level" : "in '" + path + "'"; }
+
+// yaml-cpp keeps every pair of a map whose key repeats, but node[key] finds only the first: the
+// second value would be ignored without a word. So every map of the document is checked once, at
+// load, before any reader looks at it. `visited` holds the byte offsets of the maps and lists already
+// checked, so that an alias is not walked again.
+void reject_duplicate_keys(const YAML::Node& node, const std::string& file, const std::string& path,
+                           std::set<size_t>& visited) {
+  if (!node.IsMap() && !node.IsSequence()) return;
+  if (!visited.insert(node.Mark().pos).second) return;
+  if (node.IsSequence()) {
+    for (size_t i = 0; i < node.size(); ++i) {
+      reject_duplicate_keys(node[i], file, fmt::format("{}[{}]", path, i), visited);
+    }
+    return;
+  }
+  std::map<std::string, YAML::Mark> first_seen;
+  for (auto it = node.begin(); it != node.end(); ++it) {
+    SourceLocation here = location_of_mark(file, it->first.Mark());
+    if (!it->first.IsScalar()) {
+      throw InputError(fmt::format("{}: expected a key that is a plain word {}, found {}", here.describe(),
+                                   where_in(path), scalar_text(it->first)));
+    }
+    std::string key = it->first.Scalar();
+    auto [earlier, inserted] = first_seen.insert({key, it->first.Mark()});
+    if (!inserted) {
+      throw InputError(fmt::format("{}: duplicate key '{}' {}: first at {}, again at {}; give each key once",
+                                   here.describe(), key, where_in(path),
+                                   location_of_mark(file, earlier->second).describe(), here.describe()));
+    }
+    reject_duplicate_keys(it->second, file, path.empty() ? key : path + "." + key, visited);
+  }
+}
+
 }  // namespace
 
 ConfigNode ConfigNode::load_file(const std::string& path) { return load_string(read_text(path), path); }
@@ -35,6 +73,8 @@ ConfigNode ConfigNode::load_file(const std::string& path) { return load_string(r
 ConfigNode ConfigNode::load_string(const std::string& text, const std::string& name) {
   try {
     YAML::Node root = YAML::Load(text);
+    std::set<size_t> visited;
+    reject_duplicate_keys(root, name, "", visited);
     auto document = std::make_shared<Document>();
     document->name = name;
     return ConfigNode(root, document, "");
@@ -245,10 +285,8 @@ void ConfigNode::finish() const {
   for (auto it = node_.begin(); it != node_.end(); ++it) {
     std::string key = it->first.Scalar();
     if (requested.count(key)) continue;
-    YAML::Mark mark = it->first.Mark();
-    SourceLocation where{document_->name, mark.line + 1, mark.column + 1};
-    std::string where_in = path_.empty() ? "at the top level" : "in '" + path_ + "'";
-    throw InputError(fmt::format("{}: unknown key '{}' {}{}; known keys: {}", where.describe(), key, where_in,
+    SourceLocation where = location_of_mark(document_->name, it->first.Mark());
+    throw InputError(fmt::format("{}: unknown key '{}' {}{}; known keys: {}", where.describe(), key, where_in(path_),
                                  did_you_mean(key, known), join(known, ", ")));
   }
 }

@@ -32,6 +32,9 @@ void write_exr(const Image& image, const std::string& path, const std::vector<st
   OIIO::ImageSpec spec(image.width(), image.height(), image.channels(), OIIO::TypeDesc::FLOAT);
   if (!channel_names.empty()) spec.channelnames = channel_names;
   spec.attribute("compression", "zip");
+  // OpenImageIO's EXR writer stamps the time of writing into the capDate header unless DateTime is
+  // set; set empty, capDate is written empty, so that the same pixels always give the same file.
+  spec.attribute("DateTime", "");
   write_with_oiio(path, spec, OIIO::TypeDesc::FLOAT, image.data());
 }
 

@@ -1,20 +1,80 @@
 #include "core/photon_tracer.h"
 
+#include <stdexcept>
+
+#include <fmt/format.h>
+
 #include "core/optics.h"
 #include "core/parallel.h"
 
 namespace causticbench {
 
+void PhotonLights::add_directional(Vec3 direction_to_light, Color irradiance, double solid_angle_sr) {
+  if (!(glm::length(direction_to_light) > 0.0f)) {
+    throw std::invalid_argument("PhotonLights::add_directional: the direction to the light is zero or not finite");
+  }
+  if (!(solid_angle_sr >= 0.0 && solid_angle_sr <= 2.0 * kPiDouble)) {
+    throw std::invalid_argument(fmt::format("PhotonLights::add_directional: solid angle {} sr is not in [0, 2 pi]",
+                                            solid_angle_sr));
+  }
+  Light light;
+  light.kind = LightKind::directional;
+  light.name = "explicit directional";
+  // Light::direction is the way light travels: away from the light.
+  light.direction = Vec3Track::constant(-glm::dvec3(direction_to_light));
+  light.irradiance = irradiance;
+  light.solid_angle = solid_angle_sr;
+  lights_.push_back(std::move(light));
+  frames_.push_back(pose_light(lights_.back(), 0.0));
+}
+
+void PhotonLights::add_point(Vec3 position, Color intensity_w_per_sr, double radius) {
+  if (!(radius >= 0.0)) {
+    throw std::invalid_argument(fmt::format("PhotonLights::add_point: radius {} is negative", radius));
+  }
+  Light light;
+  light.kind = LightKind::point;
+  light.name = "explicit point";
+  light.position = Vec3Track::constant(glm::dvec3(position));
+  light.intensity = intensity_w_per_sr;
+  light.radius = radius;
+  lights_.push_back(std::move(light));
+  frames_.push_back(pose_light(lights_.back(), 0.0));
+}
+
+void PhotonLights::add(const LightFrame& light) {
+  if (!light.light) throw std::invalid_argument("PhotonLights::add: the light frame points at no light");
+  frames_.push_back(light);
+}
+
 CausticPhotonTracer::CausticPhotonTracer(const Tracer& tracer, PhotonTracerSettings settings)
-    : tracer_(tracer), settings_(settings) {
+    : CausticPhotonTracer(tracer, settings, tracer.frame().lights, tracer.frame().specular_objects()) {}
+
+CausticPhotonTracer::CausticPhotonTracer(const Tracer& tracer, PhotonTracerSettings settings,
+                                         const std::vector<LightFrame>& lights, const std::vector<int>& target_objects)
+    : tracer_(tracer), settings_(settings), lights_(lights) {
   const SceneFrame& frame = tracer.frame();
-  for (int object : frame.specular_objects()) {
+  std::vector<bool> chosen(frame.bounds.size(), false);
+  for (int object : target_objects) {
+    if (object < 0 || static_cast<size_t>(object) >= frame.bounds.size()) {
+      throw std::invalid_argument(fmt::format("CausticPhotonTracer: target object {} is not in the scene (it has {})",
+                                              object, frame.bounds.size()));
+    }
+    // A target listed twice would be aimed at twice as often; the weights would stay exact, but its
+    // cross-section would count twice in target_cross_section().
+    if (chosen[object]) {
+      throw std::invalid_argument(fmt::format("CausticPhotonTracer: target object {} is listed twice", object));
+    }
+    chosen[object] = true;
     targets_.push_back(frame.bounds[object]);
     target_area_ += kPiDouble * frame.bounds[object].radius * frame.bounds[object].radius;
   }
+  for (const LightFrame& light : lights_) {
+    if (!light.light) throw std::invalid_argument("CausticPhotonTracer: a light frame points at no light");
+  }
   // Choose lights in proportion to the flux they aim at the targets (estimated from luminance).
   std::vector<double> weights;
-  for (const LightFrame& light : frame.lights) {
+  for (const LightFrame& light : lights_) {
     double weight = 0.0;
     switch (light.kind) {
       case LightKind::directional:
@@ -44,7 +104,7 @@ CausticPhotonTracer::CausticPhotonTracer(const Tracer& tracer, PhotonTracerSetti
 bool CausticPhotonTracer::emit(Random& random, Ray& ray, Color& power) const {
   double light_probability;
   size_t light_index = light_choice_.sample(random.uniform_double(), light_probability);
-  const LightFrame& light = tracer_.frame().lights[light_index];
+  const LightFrame& light = lights_[light_index];
   // Choose a target with probability proportional to its weight, then count every target the
   // resulting ray could also have come from: the one-sample balance weight of Veach, exact for overlaps.
   if (light.kind == LightKind::point) {
@@ -124,6 +184,8 @@ bool CausticPhotonTracer::emit(Random& random, Ray& ray, Color& power) const {
 void CausticPhotonTracer::trace_one(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats) const {
   Random random(settings_.seed, index);
   ++stats.emitted;
+  // Nothing to aim at, or no flux towards it: the photon counts as emitted and carries nothing.
+  if (targets_.empty() || total_weight_ <= 0.0) return;
   Ray ray;
   Color power;
   if (!emit(random, ray, power)) return;

@@ -1,12 +1,13 @@
 // Caustic photon tracing, shared by the reference, the photon map and the precomputations of later
-// methods. Photons leave the lights aimed only at the bounding spheres of specular objects, with the
-// exact weights of that aiming (so no flux is lost or invented), bounce through any number of mirror
-// and glass interactions (Fresnel, total internal reflection, Beer-Lambert absorption, Russian
-// roulette), and are deposited where a path with at least one specular bounce meets a surface with a
-// diffuse part.
+// methods. Photons leave the lights aimed only at the bounding spheres of target objects (by default
+// the frame's lights and its specular objects), with the exact weights of that aiming (so no flux is
+// lost or invented), bounce through any number of mirror and glass interactions with every object of
+// the scene (Fresnel, total internal reflection, Beer-Lambert absorption, Russian roulette), and are
+// deposited where a path with at least one specular bounce meets a surface with a diffuse part.
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <vector>
 
 #include "core/sampling.h"
@@ -38,9 +39,43 @@ struct PhotonStats {
   }
 };
 
+// Lights that are not the scene's, for precomputations that shoot photons for any light direction
+// (Wyman 2003's light samples, Liu 2008's icosahedron directions). A LightFrame points at its Light,
+// so the lights live in a deque, whose elements never move: the frames stay valid as lights are
+// added and when the whole set is moved. Copying would leave the copy's frames pointing at the
+// original's lights, so it is not allowed. Keep the set alive while a tracer made from it is in use.
+class PhotonLights {
+ public:
+  PhotonLights() = default;
+  PhotonLights(const PhotonLights&) = delete;
+  PhotonLights& operator=(const PhotonLights&) = delete;
+  PhotonLights(PhotonLights&&) = default;
+  PhotonLights& operator=(PhotonLights&&) = default;
+
+  // A distant light arriving from `direction_to_light` (any non-zero length), with `irradiance` in
+  // W/m^2 on a surface facing it, from a disk of `solid_angle_sr` (0: a perfectly parallel beam).
+  void add_directional(Vec3 direction_to_light, Color irradiance, double solid_angle_sr = 0.0);
+  // A point light of `intensity_w_per_sr`, emitting from a sphere of `radius` (0: a true point).
+  void add_point(Vec3 position, Color intensity_w_per_sr, double radius = 0.0);
+  // A posed scene light, as it is: it keeps pointing at the scene's Light, which must outlive it.
+  void add(const LightFrame& light);
+
+  const std::vector<LightFrame>& frames() const { return frames_; }
+
+ private:
+  std::deque<Light> lights_;
+  std::vector<LightFrame> frames_;
+};
+
 class CausticPhotonTracer {
  public:
+  // Emits from the frame's lights towards its specular objects.
   CausticPhotonTracer(const Tracer& tracer, PhotonTracerSettings settings);
+  // Emits only from `lights` (copied; the Lights they point at must outlive the tracer) and aims only
+  // at the bounding spheres of `target_objects` (indices into the scene's objects, each at most
+  // once; std::invalid_argument otherwise). Photons still interact with every object of the scene.
+  CausticPhotonTracer(const Tracer& tracer, PhotonTracerSettings settings, const std::vector<LightFrame>& lights,
+                      const std::vector<int>& target_objects);
 
   // Traces photons with indices [first, first + count). Photon i draws only from Random(seed, i), and
   // the output is in index order, so results do not depend on the thread count. Multithreaded.
@@ -48,8 +83,11 @@ class CausticPhotonTracer {
   // Traces one photon path; appends at most a few photons (one per receiving surface on the path).
   void trace_one(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats) const;
 
-  // Total flux (luminance, W) that the lights send towards the specular objects' bounding spheres.
+  // Total flux (luminance, W) that the lights send towards the targets' bounding spheres.
   double aimed_flux() const { return total_weight_; }
+  // Sum of the targets' bounding-sphere cross-sections, pi r^2 each (m^2): the area a directional
+  // light's photons are aimed through, so that its aimed flux is luminance(E) times this.
+  double target_cross_section() const { return target_area_; }
   bool has_targets() const { return !targets_.empty(); }
 
  private:
@@ -57,6 +95,7 @@ class CausticPhotonTracer {
 
   const Tracer& tracer_;
   PhotonTracerSettings settings_;
+  std::vector<LightFrame> lights_;
   std::vector<BoundingSphere> targets_;
   double target_area_ = 0.0;  // sum of the spheres' cross-sections
   Distribution1D light_choice_;

@@ -23,7 +23,10 @@ Scene read_scene(const ConfigNode& root, const std::string& folder) {
   if (!root.is_map()) root.fail_here("a scene map with camera, lights and objects", root.describe_value());
   scene.name = root.string_or("name", std::filesystem::path(root.file()).stem().string());
   scene.frames = root.integer_or("frames", 1, 1, 1000000);
-  scene.camera = read_camera(root.child("camera"));
+  ConfigNode camera = root.child("camera");
+  scene.camera = read_camera(camera);
+  // Every frame the scene can render, so that no frame of an animation reaches the tracer degenerate.
+  check_camera_at_every_frame(scene.camera, scene.frames, camera);
   ConfigNode lights = root.child("lights");
   if (lights.size() == 0) lights.fail_here("at least one light", "an empty list");
   for (size_t i = 0; i < lights.size(); ++i) scene.lights.push_back(read_light(lights.at(i), folder));

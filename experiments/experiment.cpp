@@ -1,25 +1,20 @@
 #include "experiments/experiment.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <regex>
+#include <set>
 #include <sstream>
 
 #include <fmt/format.h>
-#include <xxhash.h>
 
 #include "core/files.h"
+#include "experiments/result_store.h"
 #include "metrics/metrics.h"
 
 namespace causticbench {
 
 namespace fs = std::filesystem;
-
-std::string hash_text(const std::string& text) {
-  return fmt::format("{:016x}", static_cast<unsigned long long>(XXH64(text.data(), text.size(), 0)));
-}
-
-// nlohmann::json keeps object keys sorted, so the dump is canonical whatever the order in the file.
-std::string hash_json(const nlohmann::json& value) { return hash_text(value.dump()); }
 
 std::vector<KnobAssignment> expand_sweep(const KnobAssignment& fixed,
                                          const std::vector<std::pair<std::string, std::vector<ParamDict::Entry>>>& sweep,
@@ -79,9 +74,41 @@ bool run_matches_filter(const Experiment& experiment, const RunSpec& run, const 
   return matches_filter(run.method, run.label, knobs, filter);
 }
 
+namespace {
+
+// Throws when `value` is none of `allowed`; `what` names the set ("knob", "method", "variant").
+void check_filter_word(const std::string& term, const std::string& value, const std::vector<std::string>& allowed,
+                       const std::string& what) {
+  if (std::find(allowed.begin(), allowed.end(), value) != allowed.end()) return;
+  std::string expected =
+      fmt::format("a {} of the experiment: {}{}", what, join(allowed, ", "), did_you_mean(value, allowed));
+  throw_input_error(SourceLocation{"--filter"}, term, expected, "'" + value + "'");
+}
+
+}  // namespace
+
+void check_filter_terms(const Experiment& experiment, const std::string& filter) {
+  std::set<std::string> methods, knobs = {"method", "variant"};
+  for (const RunSpec& run : experiment.runs) {
+    if (!methods.insert(run.method).second) continue;
+    for (const ParamSpec& spec : find_method(run.method).info().params) knobs.insert(spec.name);
+  }
+  std::vector<std::string> variants;
+  for (const SceneVariant& variant : experiment.variants) variants.push_back(variant.name);
+  std::stringstream terms(filter);
+  for (std::string term; std::getline(terms, term, ',');) {
+    size_t equals = term.find('=');
+    if (equals == std::string::npos) continue;
+    std::string name = term.substr(0, equals), value = term.substr(equals + 1);
+    check_filter_word(term, name, {knobs.begin(), knobs.end()}, "knob");
+    if (name == "method") check_filter_word(term, value, {methods.begin(), methods.end()}, "method");
+    if (name == "variant") check_filter_word(term, value, variants, "variant");
+  }
+}
+
 nlohmann::json record_knobs(const nlohmann::json& record) {
   nlohmann::json knobs = nlohmann::json::object();
-  for (const char* phase : {"build", "render"}) {
+  for (const char* phase : {"build", "frame", "render"}) {
     if (record.contains(phase) && record[phase].is_object()) knobs.update(record[phase]);
   }
   for (const char* field : {"variant", "receiver_pixels"}) {
@@ -119,9 +146,8 @@ void read_fixed(const ConfigNode& node, KnobAssignment& fixed, const MethodInfo&
     if (phase) {
       for (const ParamSpec& spec : info.params) {
         if (spec.name == key && spec.phase != *phase) {
-          value.fail_here(fmt::format("a {} knob of '{}' here ('{}' is a {} knob)",
-                                      *phase == ParamPhase::build ? "build" : "render", info.name, key,
-                                      spec.phase == ParamPhase::build ? "build" : "render"),
+          value.fail_here(fmt::format("a {} knob of '{}' here ('{}' is a {} knob: put it under `{}:` or `knobs:`)",
+                                      phase_name(*phase), info.name, key, phase_name(spec.phase), phase_name(spec.phase)),
                           value.describe_value());
         }
       }
@@ -154,6 +180,8 @@ nlohmann::json read_overrides(const ConfigNode& node, Scene& scene) {
       applied["camera"]["fov_degrees"] = scene.camera.fov_degrees;
     }
     camera->finish();
+    // The override may bring the camera onto its look_at, or its view onto `up`, at any frame.
+    check_camera_at_every_frame(scene.camera, scene.frames, *camera);
   }
   if (std::optional<ConfigNode> light_node = node.optional_child("light")) {
     int index = light_node->integer_or("index", 0, 0, static_cast<int>(scene.lights.size()) - 1);
@@ -235,12 +263,19 @@ std::vector<int> read_frames(const ConfigNode& root, const Scene& scene) {
     if (node.as_string() != "all") node.fail_here("'all', a list of frame indices, or {first, count}", node.describe_value());
     for (int f = 0; f < scene.frames; ++f) frames.push_back(f);
   } else if (node.is_sequence()) {
+    std::map<int, SourceLocation> first_seen;
     for (size_t i = 0; i < node.size(); ++i) {
       ConfigNode item = node.at(i);
       double value = item.as_number();
       if (value < 0 || value >= scene.frames || value != static_cast<int>(value)) {
         item.fail_here(fmt::format("a frame index in 0 .. {} (the scene has {} frames)", scene.frames - 1, scene.frames),
                        item.describe_value());
+      }
+      // A repeated frame would be played, timed and measured twice as if it were another frame.
+      auto [earlier, inserted] = first_seen.insert({static_cast<int>(value), item.location()});
+      if (!inserted) {
+        item.fail_here("each frame index once", fmt::format("frame {} again (first at {})", earlier->first,
+                                                            earlier->second.describe()));
       }
       frames.push_back(static_cast<int>(value));
     }
@@ -252,6 +287,32 @@ std::vector<int> read_frames(const ConfigNode& root, const Scene& scene) {
   }
   if (frames.empty()) node.fail_here("at least one frame", "none");
   return frames;
+}
+
+// The folders the store keeps in the results root beside the experiments' (ResultPaths): the
+// reference cache and the build cache.
+std::vector<std::string> store_folder_names() {
+  ResultPaths paths{""};
+  return {fs::path(paths.reference("key")).parent_path().filename().string(),
+          fs::path(paths.builds()).filename().string()};
+}
+
+// The name is a folder of the results root (RESULTS/<name>/): it must stay inside that root and keep
+// out of the store's own folders, or its runs and report land beside the root or in a cache.
+void check_experiment_name(const ConfigNode& root, const std::string& name) {
+  std::string found = "'" + name + "'" + (root.has("name") ? "" : " (from the file name; set `name:`)");
+  if (!std::regex_match(name, std::regex("[A-Za-z0-9_.-]+"))) {
+    root.fail("name", "a name of letters, digits, '_', '.' and '-' (it names the results folder)", found);
+  }
+  if (name.front() == '.') {
+    root.fail("name", "a name that does not start with '.' (it names a folder inside --results; '.' and '..' would "
+                      "write into the results folder itself or its parent)", found);
+  }
+  std::vector<std::string> reserved = store_folder_names();
+  if (std::find(reserved.begin(), reserved.end(), name) != reserved.end()) {
+    root.fail("name", fmt::format("a name other than {} (the results store keeps its reference and build caches in "
+                                  "those folders)", join(reserved, " and ")), found);
+  }
 }
 
 nlohmann::json read_paper(const ConfigNode& node) {
@@ -360,7 +421,8 @@ nlohmann::json Experiment::to_json() const {
           {"reference_key", variants.front().reference_key},
           {"runs", runs_json},
           {"paper", paper},
-          {"claims", claims}};
+          {"claims", claims},
+          {"empty_reference_expected", empty_reference_expected}};
 }
 
 Experiment load_experiment(const std::string& path) {
@@ -369,9 +431,7 @@ Experiment load_experiment(const std::string& path) {
   Experiment experiment;
   experiment.source = path;
   experiment.name = root.string_or("name", fs::path(path).stem().string());
-  if (!std::regex_match(experiment.name, std::regex("[A-Za-z0-9_.-]+"))) {
-    root.fail("name", "a name of letters, digits, '_', '.' and '-' (it names the results folder)", "'" + experiment.name + "'");
-  }
+  check_experiment_name(root, experiment.name);
   experiment.description = root.string_or("description", "");
   std::string scene_name = root.string("scene");
   fs::path scene_path = fs::path(path).parent_path() / scene_name;
@@ -391,9 +451,14 @@ Experiment load_experiment(const std::string& path) {
   experiment.variants = read_variants(root, base);
   experiment.frames = read_frames(root, experiment.variants.front().scene);
   experiment.repetitions = root.integer_or("repetitions", 3, 1, 1000);
+  experiment.empty_reference_expected = root.boolean_or("empty_reference_expected", false);
 
   // Metrics: named ones, or every per-frame metric (plus flicker for animations).
   if (std::optional<ConfigNode> metrics = root.optional_child("metrics")) {
+    // Blamed here, not on primary_metric: an empty list measures nothing.
+    if (metrics->size() == 0) {
+      metrics->fail_here("at least one metric name (or no `metrics` key: every metric)", "an empty list");
+    }
     for (size_t i = 0; i < metrics->size(); ++i) {
       ConfigNode item = metrics->at(i);
       std::string name = item.as_string();
@@ -401,6 +466,9 @@ Experiment load_experiment(const std::string& path) {
         find_metric(name);
       } catch (const InputError& error) {
         throw_input_error(item.location(), item.path(), "a metric name", std::string(error.what()));
+      }
+      if (std::find(experiment.metrics.begin(), experiment.metrics.end(), name) != experiment.metrics.end()) {
+        item.fail_here("each metric once", "'" + name + "' again");
       }
       experiment.metrics.push_back(name);
     }
@@ -411,6 +479,11 @@ Experiment load_experiment(const std::string& path) {
   }
   experiment.primary_metric = root.string_or("primary_metric", "relmse");
   if (std::find(experiment.metrics.begin(), experiment.metrics.end(), experiment.primary_metric) == experiment.metrics.end()) {
+    // Without the key the default is what is missing from `metrics`: point there, not at line 1.
+    if (!root.has("primary_metric")) {
+      root.fail("metrics", "a list that holds relmse (the default primary_metric), or a primary_metric naming one of " +
+                               join(experiment.metrics, ", "), "no relmse");
+    }
     root.fail("primary_metric", "one of the experiment's metrics: " + join(experiment.metrics, ", "),
               "'" + experiment.primary_metric + "'");
   }
@@ -439,9 +512,9 @@ Experiment load_experiment(const std::string& path) {
     const MethodInfo& info = method->info();
     std::string label = entry.string_or("label", info.name);
     KnobAssignment fixed;
-    const ParamPhase build = ParamPhase::build, render = ParamPhase::render;
-    if (std::optional<ConfigNode> node = entry.optional_child("build")) read_fixed(*node, fixed, info, &build);
-    if (std::optional<ConfigNode> node = entry.optional_child("render")) read_fixed(*node, fixed, info, &render);
+    for (ParamPhase phase : {ParamPhase::build, ParamPhase::frame, ParamPhase::render}) {
+      if (std::optional<ConfigNode> node = entry.optional_child(phase_name(phase))) read_fixed(*node, fixed, info, &phase);
+    }
     if (std::optional<ConfigNode> node = entry.optional_child("knobs")) read_fixed(*node, fixed, info, nullptr);
     SweepLists sweep, zip;
     if (std::optional<ConfigNode> node = entry.optional_child("sweep")) sweep = read_lists(*node);
@@ -466,20 +539,37 @@ Experiment load_experiment(const std::string& path) {
     entry.finish();
     // The knobs do not depend on the variant: resolve them once, then run them on every variant.
     std::vector<std::pair<RunSpec, std::string>> resolved;  // knobs, swept text
+    std::set<std::string> applied;  // swept knobs that apply in at least one combination
     for (const KnobAssignment& assignment : expand_sweep(fixed, sweep, zip)) {
       ParamDict dict;
       for (const auto& [name, value] : assignment) dict.set(name, value.text, value.where);
       RunSpec knobs;
       knobs.method = info.name;
-      knobs.params = dict.resolve(info.params, info.name);
+      // A swept knob that does not apply to this combination (sh_order under storage: grid) is
+      // dropped, so the combinations it would multiply collapse into one run (same key, kept once).
+      knobs.params = dict.resolve(info.params, info.name, varied);
       knobs.build = select_phase(knobs.params, info.params, ParamPhase::build);
+      knobs.frame = select_phase(knobs.params, info.params, ParamPhase::frame);
       knobs.render = select_phase(knobs.params, info.params, ParamPhase::render);
       std::string swept_text;
       for (const std::string& name : varied) {
+        if (!knobs.params.has(name)) continue;
+        applied.insert(name);
         knobs.swept[name] = format_param_value(knobs.params.values().at(name));
         swept_text += fmt::format(" {}={}", name, knobs.swept[name]);
       }
       resolved.emplace_back(std::move(knobs), swept_text);
+    }
+    for (const auto& list : {sweep, zip}) {
+      for (const auto& [name, values] : list) {
+        if (applied.count(name)) continue;
+        const ParamSpec* spec = nullptr;
+        for (const ParamSpec& candidate : info.params) spec = candidate.name == name ? &candidate : spec;
+        throw_input_error(values.front().where, info.name + "." + name,
+                          fmt::format("a knob that applies to at least one run of the sweep ({})",
+                                      spec ? spec->condition_text() : "?"),
+                          "it applies to none");
+      }
     }
     for (size_t v = 0; v < experiment.variants.size(); ++v) {
       const SceneVariant& variant = experiment.variants[v];

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/hash.h"
 #include "core/scene.h"
 #include "methods/param_dict.h"
 #include "methods/registry.h"
@@ -25,6 +26,7 @@ struct RunSpec {
   std::string label;
   ParamSet params;                          // every knob, defaults filled in
   ParamSet build;                           // the build-phase subset
+  ParamSet frame;                           // the frame-phase subset
   ParamSet render;                          // the render-phase subset
   std::map<std::string, std::string> swept;  // knob -> value text, for the knobs the sweep set
   nlohmann::json spec;                      // the canonical spec that was hashed
@@ -54,6 +56,11 @@ struct Experiment {
   std::vector<RunSpec> runs;
   nlohmann::json paper;      // null when absent
   nlohmann::json claims;     // array (possibly empty): the paper's claims the report checks
+  // `empty_reference_expected: true`: an extremes experiment that means to run against a reference with no
+  // caustic in view. Without it such a reference stops the run before any method runs; with it the runs
+  // are stored and reported as "empty reference", not scored. It changes how runs are judged, not what
+  // they compute, so it is no part of any run key.
+  bool empty_reference_expected = false;
 
   nlohmann::json to_json() const;
 };
@@ -69,9 +76,6 @@ std::vector<KnobAssignment> expand_sweep(const KnobAssignment& fixed,
                                          const std::vector<std::pair<std::string, std::vector<ParamDict::Entry>>>& sweep,
                                          const std::vector<std::pair<std::string, std::vector<ParamDict::Entry>>>& zip);
 
-// 16 hex digits of xxHash64 of the canonical (key-sorted, compact) JSON dump.
-std::string hash_json(const nlohmann::json& value);
-std::string hash_text(const std::string& text);
 
 // --filter (and the claims' run selections): comma-separated terms, each `knob=value` (numbers compare
 // numerically; also `method=NAME`) or a word that must appear in the run's label; a run matches when
@@ -80,7 +84,12 @@ bool matches_filter(const std::string& method, const std::string& label, const n
                     const std::string& filter);
 // A run also matches `variant=NAME` (the name of its scene variant).
 bool run_matches_filter(const Experiment& experiment, const RunSpec& run, const std::string& filter);
-// A stored record.json's knobs as filters and claims see them: build then render knobs, and its
+// A --filter term that can match no run of the experiment is a typo that would select nothing and
+// still succeed: a `knob=value` whose knob no method of the experiment has, a `method=` or `variant=`
+// naming none of its methods or variants. InputError with "did you mean"; words without '=' (label
+// words) are not checked.
+void check_filter_terms(const Experiment& experiment, const std::string& filter);
+// A stored record.json's knobs as filters and claims see them: build, frame then render knobs, and its
 // variant and receiver_pixels when it has them.
 nlohmann::json record_knobs(const nlohmann::json& record);
 // --filter on a stored record.json (its method, label and record_knobs).

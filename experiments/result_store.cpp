@@ -1,8 +1,5 @@
 #include "experiments/result_store.h"
 
-#include <signal.h>
-#include <unistd.h>
-
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -11,18 +8,6 @@ namespace causticbench {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string host_name() {
-  char name[256] = {};
-  gethostname(name, sizeof(name) - 1);
-  return name;
-}
-
-const char* kStagingPrefix = ".partial-";
-
-}  // namespace
-
 std::string ResultPaths::experiment(const std::string& name) const { return (fs::path(results) / name).string(); }
 std::string ResultPaths::run(const std::string& experiment_name, const std::string& key) const {
   return (fs::path(results) / experiment_name / "runs" / key).string();
@@ -30,56 +15,11 @@ std::string ResultPaths::run(const std::string& experiment_name, const std::stri
 std::string ResultPaths::reference(const std::string& key) const {
   return (fs::path(results) / "references" / key).string();
 }
+std::string ResultPaths::builds() const { return (fs::path(results) / "builds").string(); }
 std::string ResultPaths::frame_file(int frame, const std::string& prefix) {
   return fmt::format("{}_{:04d}", prefix, frame);
 }
 
 bool run_is_stored(const std::string& run_folder) { return fs::is_regular_file(fs::path(run_folder) / "record.json"); }
-
-StagingFolder::StagingFolder(std::string final_path) : final_(std::move(final_path)) {
-  fs::path final_path_fs(final_);
-  staging_ = (final_path_fs.parent_path() /
-              fmt::format("{}{}-{}-{}", kStagingPrefix, final_path_fs.filename().string(), host_name(), getpid()))
-                 .string();
-  fs::remove_all(staging_);
-  fs::create_directories(staging_);
-}
-
-StagingFolder::~StagingFolder() {
-  if (!committed_) {
-    std::error_code ignored;
-    fs::remove_all(staging_, ignored);
-  }
-}
-
-void StagingFolder::commit() {
-  if (fs::exists(final_)) {
-    std::string old = staging_ + ".old";
-    fs::rename(final_, old);
-    fs::rename(staging_, final_);
-    fs::remove_all(old);
-  } else {
-    fs::rename(staging_, final_);
-  }
-  committed_ = true;
-}
-
-void remove_stale_staging(const std::string& folder) {
-  if (!fs::is_directory(folder)) return;
-  std::string host = host_name();
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    std::string name = entry.path().filename().string();
-    if (name.rfind(kStagingPrefix, 0) != 0) continue;
-    // name: .partial-<key>-<host>-<pid>[.old]
-    std::string rest = name.substr(std::string(kStagingPrefix).size());
-    if (rest.size() > 4 && rest.compare(rest.size() - 4, 4, ".old") == 0) rest.resize(rest.size() - 4);
-    size_t last = rest.rfind('-');
-    if (last == std::string::npos) continue;
-    std::string before = rest.substr(0, last);
-    int pid = std::atoi(rest.substr(last + 1).c_str());
-    bool same_host = before.size() > host.size() && before.compare(before.size() - host.size(), host.size(), host) == 0;
-    if (same_host && pid > 0 && kill(pid, 0) != 0 && errno == ESRCH) fs::remove_all(entry.path());
-  }
-}
 
 }  // namespace causticbench

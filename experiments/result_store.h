@@ -5,6 +5,8 @@
 
 #include <string>
 
+#include "core/staging_folder.h"
+
 namespace causticbench {
 
 struct ResultPaths {
@@ -13,29 +15,10 @@ struct ResultPaths {
   std::string experiment(const std::string& name) const;
   std::string run(const std::string& experiment_name, const std::string& key) const;
   std::string reference(const std::string& key) const;
+  std::string builds() const;  // the build cache: <results>/builds/<key>/ (methods/build_cache.h)
   static std::string frame_file(int frame, const std::string& prefix = "frame");
 };
 
 bool run_is_stored(const std::string& run_folder);
-
-// A folder filled under a temporary name next to its final path and renamed into place by commit().
-// Destroyed without commit, it removes itself.
-class StagingFolder {
- public:
-  explicit StagingFolder(std::string final_path);
-  ~StagingFolder();
-  StagingFolder(const StagingFolder&) = delete;
-  StagingFolder& operator=(const StagingFolder&) = delete;
-  const std::string& path() const { return staging_; }
-  // Replaces any existing final folder (a --force rerun) and renames the staging folder into place.
-  void commit();
-
- private:
-  std::string final_, staging_;
-  bool committed_ = false;
-};
-
-// Removes staging folders left by runners of this host that no longer exist (killed mid-run).
-void remove_stale_staging(const std::string& folder);
 
 }  // namespace causticbench

@@ -5,16 +5,21 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <fstream>
+#include <map>
 #include <optional>
+#include <set>
 
 #include <fmt/format.h>
 
+#include "core/errors.h"
 #include "core/files.h"
 #include "core/image_statistics.h"
 #include "core/progress.h"
+#include "experiments/reference_frames.h"
 #include "experiments/result_store.h"
+#include "methods/lifecycle.h"
 #include "methods/method_runner.h"
+#include "metrics/caustic_presence.h"
 #include "metrics/metrics.h"
 
 namespace causticbench {
@@ -39,7 +44,6 @@ void parse_shard(const std::string& text, int& index, int& count) {
 
 namespace {
 
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 size_t peak_rss_bytes() {
   rusage usage{};
@@ -57,77 +61,6 @@ double minimum(const std::vector<double>& values) {
   return values.empty() ? 0.0 : *std::min_element(values.begin(), values.end());
 }
 
-// One posed frame with its tracer and G-buffer.
-struct PosedFrame {
-  SceneFrame frame;
-  Tracer tracer;
-  GBuffer gbuffer;
-  PosedFrame(const Scene& scene, int index) : frame(scene, index), tracer(frame), gbuffer(render_gbuffer(tracer)) {}
-};
-
-// The frames of one scene variant, posed once and shared by its reference and all its runs (methods
-// take them by const reference), with the reference's E_c of each.
-struct VariantFrames {
-  std::map<int, std::unique_ptr<PosedFrame>> posed;
-  std::map<int, Image> reference;
-};
-
-// Poses the variant's frames and loads each cached reference frame, or computes and stores it; then
-// rewrites the reference folder's record.json summary if a frame was computed.
-VariantFrames variant_frames(const Experiment& experiment, const SceneVariant& variant, const ResultPaths& paths) {
-  VariantFrames frames;
-  fs::path folder = paths.reference(variant.reference_key);
-  fs::create_directories(folder);
-  bool computed = false;
-  for (int frame : experiment.frames) {
-    const PosedFrame& posed = *(frames.posed[frame] = std::make_unique<PosedFrame>(variant.scene, frame));
-    fs::path image = folder / (ResultPaths::frame_file(frame) + ".exr");
-    fs::path record = folder / (ResultPaths::frame_file(frame, "record") + ".json");
-    if (fs::is_regular_file(record) && fs::is_regular_file(image)) {
-      frames.reference[frame] = read_exr(image.string());
-      continue;
-    }
-    fmt::print(stderr, "reference {} frame {}{}: computing (cached in {})\n", variant.reference_key, frame,
-               experiment.variants.size() > 1 ? " of variant " + variant.name : "", folder.string());
-    std::unique_ptr<CausticMethod> method = create_method("reference");
-    const MethodInfo& info = method->info();
-    method->prepare(variant.scene, select_phase(experiment.reference_params, info.params, ParamPhase::build));
-    method->update(FrameContext{posed.frame, posed.tracer});
-    Image caustic = method->render(posed.gbuffer, select_phase(experiment.reference_params, info.params, ParamPhase::render));
-    posed.gbuffer.clear_outside_receivers(caustic);
-    write_exr(caustic, image.string());
-    write_exr(posed.gbuffer.to_image(), (folder / (ResultPaths::frame_file(frame, "gbuffer") + ".exr")).string());
-    nlohmann::json frame_record = method->record();
-    frame_record["frame"] = frame;
-    frame_record["params"] = experiment.reference_params.to_json();
-    write_text_atomically(record.string(), frame_record.dump(2) + "\n");
-    frames.reference[frame] = std::move(caustic);
-    computed = true;
-  }
-  if (!computed) return frames;
-  // record.json summarises every stored frame (of this and earlier experiments); its top level is the
-  // first frame's record.
-  nlohmann::json summary = nlohmann::json::object(), stored_frames = nlohmann::json::object();
-  int first = -1;
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    std::string file = entry.path().filename().string();
-    if (file.rfind("record_", 0) != 0) continue;
-    std::ifstream stream(entry.path());
-    nlohmann::json stored = nlohmann::json::parse(stream);
-    int index = stored["frame"].get<int>();
-    stored_frames[std::to_string(index)] = {{"noise_floor", stored["noise_floor"]}, {"passes", stored["passes"]},
-                                            {"seconds", stored["seconds"]}, {"stop_reason", stored["stop_reason"]}};
-    if (first < 0 || index < first) {
-      first = index;
-      summary = stored;
-    }
-  }
-  summary["frames"] = stored_frames;
-  summary["key"] = variant.reference_key;
-  write_text_atomically((folder / "record.json").string(), summary.dump(2) + "\n");
-  return frames;
-}
-
 // The fields that say which run a record is, for finished and failed runs alike.
 nlohmann::json run_identity(const Experiment& experiment, const RunSpec& run) {
   const SceneVariant& variant = experiment.variants.at(run.variant);
@@ -137,6 +70,7 @@ nlohmann::json run_identity(const Experiment& experiment, const RunSpec& run) {
           {"variant", variant.name},
           {"reference_key", variant.reference_key},
           {"build", run.build.to_json()},
+          {"frame", run.frame.to_json()},
           {"render", run.render.to_json()},
           {"swept", run.swept},
           {"spec", run.spec}};
@@ -147,13 +81,79 @@ struct RunOutcome {
   std::vector<std::pair<int, Image>> images;
 };
 
-// Times and measures one run whose method has been prepared.
-RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, CausticMethod& method, double prepare_seconds,
-                       const VariantFrames& variant_frames) {
+nlohmann::json prepare_json(const PrepareOutcome& prepare) {
+  nlohmann::json result = {{"source", prepare.source},
+                           {"build_key", prepare.build_key},
+                           {"prepare_seconds", prepare.prepare_seconds},
+                           {"load_seconds", prepare.load_seconds},
+                           {"save_seconds", prepare.save_seconds}};
+  if (!prepare.warning.empty()) result["warning"] = prepare.warning;
+  return result;
+}
+
+// A frame whose reference is empty is not scored: every metric of it is undefined, except the count of
+// non-finite pixels, which judges the method alone.
+void mark_empty_reference(MetricValues& values, const CausticPresence& presence) {
+  std::string reason = "empty reference: " + presence.describe();
+  for (auto it = values.values.begin(); it != values.values.end();) {
+    if (it->first == "nonfinite_pixels") {
+      ++it;
+      continue;
+    }
+    values.undefined[it->first] = reason;
+    it = values.values.erase(it);
+  }
+  for (auto& [name, why] : values.undefined) why = reason;
+}
+
+// The run's metrics over its frames: each the mean of its per-frame values (nonfinite_pixels: the sum),
+// or undefined when it is undefined on any frame, with the first such frame's reason: a mean over some of
+// the frames would not compare with other runs' means over all of them.
+struct RunMetrics {
+  std::map<std::string, double> sums;
+  std::map<std::string, double> whole_sequence;  // metrics of the sequence itself (temporal_flicker)
+  std::map<std::string, std::string> undefined;
+
+  void add(int frame, bool several_frames, const MetricValues& values) {
+    for (const auto& [name, value] : values.values) sums[name] += value;
+    for (const auto& [name, why] : values.undefined) {
+      if (!undefined.count(name)) undefined[name] = several_frames ? fmt::format("frame {}: {}", frame, why) : why;
+    }
+  }
+  void add_sequence(const std::string& name, const MetricValue& value) {
+    if (value.value)
+      whole_sequence[name] = *value.value;
+    else
+      undefined[name] = value.undefined_reason;
+  }
+  nlohmann::json defined(size_t frame_count) const {
+    nlohmann::json metrics = nlohmann::json::object();
+    for (const auto& [name, sum] : sums) {
+      if (undefined.count(name)) continue;
+      metrics[name] = name == "nonfinite_pixels" ? sum : sum / static_cast<double>(frame_count);
+    }
+    for (const auto& [name, value] : whole_sequence) metrics[name] = value;
+    return metrics;
+  }
+};
+
+const FramePresence* find_frame(const std::vector<FramePresence>& frames, int frame) {
+  for (const FramePresence& entry : frames)
+    if (entry.frame == frame) return &entry;
+  return nullptr;
+}
+
+// Measures one run from its share of a played sequence: metrics per frame against the reference,
+// flicker over the sequence, timings per frame and over all frames and passes. `empty_reference` lists the
+// frames whose reference has no caustic in view (an experiment with empty_reference_expected): those
+// frames are not scored, and the record says so.
+RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, const CausticMethod& method,
+                       const PrepareOutcome& prepare, SequenceOutput&& output, const VariantFrames& variant_frames,
+                       const std::vector<FramePresence>& empty_reference) {
   RunOutcome outcome;
   nlohmann::json frames = nlohmann::json::array();
   std::vector<double> all_update, all_render, all_frame, all_gpu;
-  std::map<std::string, double> metric_sums;
+  RunMetrics run_metrics;
   std::vector<std::string> per_frame_metrics;
   for (const std::string& name : experiment.metrics) {
     if (find_metric(name).per_frame) per_frame_metrics.push_back(name);
@@ -163,40 +163,27 @@ RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, Caustic
   std::vector<Image> test_sequence, reference_sequence;
   std::vector<std::vector<uint8_t>> masks;
   size_t nonfinite = 0;
-  for (int frame : experiment.frames) {
+  for (size_t f = 0; f < experiment.frames.size(); ++f) {
+    const int frame = experiment.frames[f];
     const PosedFrame& posed = *variant_frames.posed.at(frame);
-    FrameContext context{posed.frame, posed.tracer};
-    Image image;
-    // One warm-up, then the timed repetitions.
-    method.update(context);
-    image = method.render(posed.gbuffer, run.render);
-    std::vector<double> update_ms, render_ms, gpu_ms;
-    for (int repetition = 0; repetition < experiment.repetitions; ++repetition) {
-      auto start = Clock::now();
-      method.update(context);
-      update_ms.push_back(seconds_since(start) * 1e3);
-      start = Clock::now();
-      image = method.render(posed.gbuffer, run.render);
-      render_ms.push_back(seconds_since(start) * 1e3);
-      // GPU backends report their kernel time from timestamp queries.
-      nlohmann::json facts = method.record();
-      if (facts.contains("gpu_render_ms") && facts["gpu_render_ms"].get<double>() > 0.0) {
-        gpu_ms.push_back(facts["gpu_render_ms"].get<double>());
-        all_gpu.push_back(gpu_ms.back());
-      }
-      all_update.push_back(update_ms.back());
-      all_render.push_back(render_ms.back());
-      all_frame.push_back(update_ms.back() + render_ms.back());
+    const FrameTimings& timings = output.timings[f];
+    Image& image = output.images[f];
+    for (size_t pass = 0; pass < timings.render_ms.size(); ++pass) {
+      all_update.push_back(timings.update_ms[pass]);
+      all_render.push_back(timings.render_ms[pass]);
+      all_frame.push_back(timings.update_ms[pass] + timings.render_ms[pass]);
     }
-    posed.gbuffer.clear_outside_receivers(image);
+    all_gpu.insert(all_gpu.end(), timings.gpu_render_ms.begin(), timings.gpu_render_ms.end());
     const Image& reference = variant_frames.reference.at(frame);
     MetricValues values = compute_metrics(image, reference, posed.gbuffer.receiver, per_frame_metrics);
+    if (const FramePresence* empty = find_frame(empty_reference, frame)) mark_empty_reference(values, empty->presence);
     nonfinite += values.nonfinite_pixels;
-    for (const auto& [name, value] : values.values) metric_sums[name] += value;
+    run_metrics.add(frame, experiment.frames.size() > 1, values);
     std::string file = ResultPaths::frame_file(frame) + ".exr";
-    frames.push_back({{"frame", frame}, {"image", file}, {"update_ms", update_ms}, {"render_ms", render_ms},
+    frames.push_back({{"frame", frame}, {"image", file}, {"update_ms", timings.update_ms}, {"render_ms", timings.render_ms},
                       {"metrics", values.values}});
-    if (!gpu_ms.empty()) frames.back()["gpu_render_ms"] = gpu_ms;
+    if (!values.undefined.empty()) frames.back()["metrics_undefined"] = values.undefined;
+    if (!timings.gpu_render_ms.empty()) frames.back()["gpu_render_ms"] = timings.gpu_render_ms;
     if (flicker) {
       test_sequence.push_back(image);
       reference_sequence.push_back(reference);
@@ -204,11 +191,12 @@ RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, Caustic
     }
     outcome.images.push_back({frame, std::move(image)});
   }
-  nlohmann::json metrics = nlohmann::json::object();
-  for (const auto& [name, sum] : metric_sums) {
-    metrics[name] = name == "nonfinite_pixels" ? sum : sum / static_cast<double>(experiment.frames.size());
+  if (flicker) {
+    MetricValue value = temporal_flicker(test_sequence, reference_sequence, masks);
+    if (!empty_reference.empty())
+      value = {std::nullopt, "empty reference: " + empty_reference.front().presence.describe()};
+    run_metrics.add_sequence("temporal_flicker", value);
   }
-  if (flicker) metrics["temporal_flicker"] = temporal_flicker(test_sequence, reference_sequence, masks);
   nlohmann::json counters = nlohmann::json::object();
   for (const auto& [name, value] : method.counters()) counters[name] = value;
   outcome.record = run_identity(experiment, run);
@@ -216,15 +204,23 @@ RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, Caustic
                          {"error", nonfinite ? fmt::format("the output has {} non-finite pixels", nonfinite) : ""},
                          {"receiver_pixels", variant_frames.posed.at(experiment.frames.front())->gbuffer.receiver_count()},
                          {"frames", frames},
-                         {"prepare_seconds", prepare_seconds},
+                         {"prepare_seconds", prepare.prepare_seconds},
+                         {"prepare", prepare_json(prepare)},
                          {"timings", {{"update_ms_min", minimum(all_update)}, {"update_ms_median", median(all_update)},
                                       {"render_ms_min", minimum(all_render)}, {"render_ms_median", median(all_render)},
                                       {"frame_ms_min", minimum(all_frame)}, {"frame_ms_median", median(all_frame)}}},
-                         {"metrics", metrics},
+                         {"metrics", run_metrics.defined(experiment.frames.size())},
                          {"memory_bytes", method.memory_bytes()},
                          {"peak_rss_bytes", peak_rss_bytes()},
                          {"counters", counters},
                          {"method_record", method.record()}});
+  if (!run_metrics.undefined.empty()) outcome.record["metrics_undefined"] = run_metrics.undefined;
+  if (!empty_reference.empty()) {
+    nlohmann::json empty_frames_json = nlohmann::json::array();
+    for (const FramePresence& entry : empty_reference) empty_frames_json.push_back(entry.frame);
+    outcome.record["empty_reference"] = {{"frames", empty_frames_json},
+                                         {"reason", empty_reference.front().presence.describe()}};
+  }
   if (!all_gpu.empty()) {
     outcome.record["timings"]["gpu_render_ms_min"] = minimum(all_gpu);
     outcome.record["timings"]["gpu_render_ms_median"] = median(all_gpu);
@@ -275,6 +271,10 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& option
   }
   if (options.dry_run) return summary;
 
+  // Every reference is computed (or loaded) and checked before any run starts, and before anything is
+  // written into the experiment's folder: an empty reference stops here with nothing of it changed.
+  ReferenceCheck references = check_references(experiment, pending, paths);
+
   std::string folder = paths.experiment(experiment.name);
   fs::create_directories(fs::path(folder) / "runs");
   remove_stale_staging((fs::path(folder) / "runs").string());
@@ -283,56 +283,103 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& option
   write_text_atomically((fs::path(folder) / "environment.json").string(), environment.dump(2) + "\n");
   write_text_atomically((fs::path(folder) / "experiment.json").string(), experiment.to_json().dump(2) + "\n");
 
-  // Group pending runs by (variant, method, build knobs): prepare once per group.
-  std::vector<std::vector<const RunSpec*>> groups;
+  // Group pending runs by (variant, method, build knobs): prepare once per group (or load the build
+  // from results/builds, which serves every variant, experiment and process); within a group, by
+  // frame knobs: runs that differ only in render knobs share update().
+  struct Group {
+    std::vector<std::vector<const RunSpec*>> by_frame_knobs;
+    std::map<std::string, size_t> index;
+  };
+  std::vector<Group> groups;
   std::map<std::string, size_t> group_of;
   for (const RunSpec* run : pending) {
     std::string group_key = std::to_string(run->variant) + "/" + run->method + run->build.to_json().dump();
     auto [it, inserted] = group_of.insert({group_key, groups.size()});
     if (inserted) groups.emplace_back();
-    groups[it->second].push_back(run);
+    Group& group = groups[it->second];
+    auto [sub, new_sub] = group.index.insert({run->frame.to_json().dump(), group.by_frame_knobs.size()});
+    if (new_sub) group.by_frame_knobs.emplace_back();
+    group.by_frame_knobs[sub->second].push_back(run);
   }
   // One variant after another, so that only one variant's frames are posed at a time.
-  std::stable_sort(groups.begin(), groups.end(), [](const auto& a, const auto& b) { return a.front()->variant < b.front()->variant; });
+  auto first_run = [](const Group& group) { return group.by_frame_knobs.front().front(); };
+  std::stable_sort(groups.begin(), groups.end(),
+                   [&](const Group& a, const Group& b) { return first_run(a)->variant < first_run(b)->variant; });
+  const std::string build_cache = paths.builds();
   Progress progress(fmt::format("run {}", experiment.name), static_cast<double>(pending.size()));
   size_t done = 0;
+  auto fail = [&](const RunSpec& run, const std::string& error) {
+    store_failure(paths, experiment, run, error);
+    ++summary.failed;
+    fmt::print(stderr, "run {} failed: {}\n", run.label, error);
+    progress.update(static_cast<double>(++done), run.label);
+  };
   std::optional<size_t> current_variant;
+  const std::vector<FramePresence> scored;  // no frame with an empty reference
   VariantFrames frames;
-  for (const auto& group : groups) {
-    if (current_variant != group.front()->variant) {
-      current_variant = group.front()->variant;
+  std::unique_ptr<RestPose> rest;
+  for (const Group& group : groups) {
+    const RunSpec& first = *first_run(group);
+    const SceneVariant& variant = experiment.variants.at(first.variant);
+    if (current_variant != first.variant) {
+      current_variant = first.variant;
       frames = VariantFrames{};
-      frames = variant_frames(experiment, experiment.variants[*current_variant], paths);
+      rest.reset();
+      if (references.kept_variant == first.variant) {
+        frames = std::move(references.kept_frames);
+        references.kept_variant.reset();
+      } else {
+        frames = variant_frames(experiment, variant, paths);  // stored by the check: loaded, not computed
+      }
+      rest = std::make_unique<RestPose>(variant.scene, experiment.frames);
     }
-    std::unique_ptr<CausticMethod> method = create_method(group.front()->method);
-    double prepare_seconds = 0.0;
+    auto empty = references.empty.find(first.variant);
+    const std::vector<FramePresence>& empty_reference = empty == references.empty.end() ? scored : empty->second;
+    std::unique_ptr<CausticMethod> method = create_method(first.method);
+    PrepareOutcome prepared;
     std::string prepare_error;
     try {
-      const Scene& scene = experiment.variants.at(group.front()->variant).scene;
-      method->check_scene(scene);
-      auto start = Clock::now();
-      method->prepare(scene, group.front()->build);
-      prepare_seconds = seconds_since(start);
+      prepared = prepare_method(*method, rest->context(), first.build, build_cache);
+      if (!prepared.build_key.empty()) {
+        fmt::print(stderr, "build {} of {}: {} ({:.3g} s to compute{})\n", prepared.build_key, first.method, prepared.source,
+                   prepared.prepare_seconds,
+                   prepared.source == "loaded" ? fmt::format(", {:.3g} s to load", prepared.load_seconds) : "");
+      }
     } catch (const std::exception& error) {
       prepare_error = error.what();
     }
-    for (const RunSpec* run : group) {
-      try {
-        if (!prepare_error.empty()) throw std::runtime_error(prepare_error);
-        RunOutcome outcome = measure_run(experiment, *run, *method, prepare_seconds, frames);
-        store_run(paths, experiment, outcome);
-        if (outcome.record["status"] == "ok") {
-          ++summary.completed;
-        } else {
-          ++summary.failed;
-          fmt::print(stderr, "run {} failed: {}\n", run->label, outcome.record["error"].get<std::string>());
-        }
-      } catch (const std::exception& error) {
-        store_failure(paths, experiment, *run, error.what());
-        ++summary.failed;
-        fmt::print(stderr, "run {} failed: {}\n", run->label, error.what());
+    for (const std::vector<const RunSpec*>& runs : group.by_frame_knobs) {
+      if (!prepare_error.empty()) {
+        for (const RunSpec* run : runs) fail(*run, prepare_error);
+        continue;
       }
-      progress.update(static_cast<double>(++done), run->label);
+      std::vector<ParamSet> render_sets;
+      for (const RunSpec* run : runs) render_sets.push_back(run->render);
+      std::vector<SequenceOutput> outputs;
+      try {
+        outputs = play_sequence(*method, frames.sequence(experiment.frames), runs.front()->frame, render_sets,
+                                TimingProtocol{true, experiment.repetitions});
+      } catch (const std::exception& error) {
+        for (const RunSpec* run : runs) fail(*run, error.what());
+        continue;
+      }
+      for (size_t r = 0; r < runs.size(); ++r) {
+        const RunSpec& run = *runs[r];
+        try {
+          RunOutcome outcome =
+              measure_run(experiment, run, *method, prepared, std::move(outputs[r]), frames, empty_reference);
+          store_run(paths, experiment, outcome);
+          if (outcome.record["status"] == "ok") {
+            ++summary.completed;
+          } else {
+            ++summary.failed;
+            fmt::print(stderr, "run {} failed: {}\n", run.label, outcome.record["error"].get<std::string>());
+          }
+          progress.update(static_cast<double>(++done), run.label);
+        } catch (const std::exception& error) {
+          fail(run, error.what());
+        }
+      }
     }
   }
   progress.finish(fmt::format("{} runs, {} failed", done, summary.failed));

@@ -1,12 +1,15 @@
 // The one interface every caustics method implements. A method turns a scene into caustic irradiance
 // E_c (W/m^2, RGB) at the G-buffer points, in three timed phases:
-//   prepare(scene, build knobs)  everything that depends only on the static scene and the build knobs;
-//   update(frame)                what depends on this frame's lights and object poses;
-//   render(gbuffer, render knobs) the per-pixel work.
-// See docs/adding-a-method.md.
+//   prepare(context, build knobs)  everything that depends only on the static scene and the build knobs
+//                                  (precomputations over light directions); may be cached on disk;
+//   update(frame, frame knobs)     what depends on this frame's lights and object poses;
+//   render(gbuffer, render knobs)  the per-pixel work.
+// methods/lifecycle.h drives the phases for `render`, the experiment runner and the tests alike.
+// See docs/adding-a-method.md and docs/design.md.
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -48,11 +51,26 @@ struct MethodInfo {
   std::string summary;
   std::vector<ParamSpec> params;
   Capabilities capabilities;
-  // Whether `causticbench render --dump-frame` can write this method's frame for causticbench-gpubench.
+  // Whether `causticbench render --dump-frame` can write this method's frame for causticbench-gpubench
+  // (its replay is listed in methods/frame_dumps.cpp).
   bool frame_dump = false;
+  // Knobs ("name=value") that make a run cheap enough for the conformance tests on tiny scenes
+  // (tests/test_conformance.cpp): few photons, few samples.
+  std::vector<std::string> quick_knobs;
 };
 
 using Counters = std::vector<std::pair<std::string, double>>;
+
+// What prepare() works from: the scene, its rest pose (frame 0) with a ray tracer over it (to trace
+// photons or rays for any light direction, with CausticPhotonTracer's explicit lights), and the frame
+// indices that will be rendered, so that a method can precompute only what those frames need (a light
+// whose direction does not change gets one light sample, not 162).
+struct PrepareContext {
+  const Scene& scene;
+  const SceneFrame& rest;
+  const Tracer& tracer;
+  const std::vector<int>& frames;
+};
 
 // One posed frame: the scene at this frame index and a ray tracer over it.
 struct FrameContext {
@@ -66,14 +84,34 @@ class CausticMethod {
   virtual const MethodInfo& info() const = 0;
   // Throws InputError when the scene cannot be represented at all (before any work starts).
   virtual void check_scene(const Scene& scene) const {}
-  virtual void prepare(const Scene& scene, const ParamSet& build) = 0;
-  virtual void update(const FrameContext& frame) = 0;
+  virtual void prepare(const PrepareContext& context, const ParamSet& build) = 0;
+  // Called for every frame before render(), with the frame knobs of the run; the same prepared
+  // instance may see different frame knobs from one call to the next.
+  virtual void update(const FrameContext& frame, const ParamSet& frame_knobs) = 0;
+  // The same updated instance may be asked to render with different render knobs.
   virtual Image render(const GBuffer& gbuffer, const ParamSet& render) = 0;
   // Bytes of the data the method keeps between frames.
   virtual size_t memory_bytes() const = 0;
   virtual Counters counters() const = 0;
   // Method-specific facts for the run record (e.g. the reference's noise floor).
   virtual nlohmann::json record() const { return nlohmann::json::object(); }
+  // GPU backends: the kernel time of the last render() from timestamp queries, in milliseconds.
+  virtual std::optional<double> gpu_render_milliseconds() const { return std::nullopt; }
+
+  // The build cache (methods/build_cache.h). A method whose prepare() does costly work returns what
+  // that work depends on: the specular objects' geometry and materials, the light directions, the
+  // build knobs; never the camera, the receivers or the variant. Its hash with the method's name is
+  // the build's key. std::nullopt (the default): nothing worth storing for this scene and these knobs.
+  virtual std::optional<nlohmann::json> build_dependencies(const PrepareContext& context, const ParamSet& build) const {
+    return std::nullopt;
+  }
+  // Writes the prepared build into an empty `folder`; load_build() reads it back in place of
+  // prepare() and leaves the method exactly as prepare() would have (renders bit-identically).
+  // Throws std::runtime_error on a defect (the cache then recomputes).
+  virtual void save_build(const std::string& folder) const {}
+  virtual void load_build(const PrepareContext& context, const ParamSet& build, const std::string& folder) {
+    prepare(context, build);
+  }
   // Writes the last rendered frame's GPU inputs and this backend's output into `folder` (methods whose
   // MethodInfo::frame_dump is set).
   virtual void dump_frame(const GBuffer& gbuffer, const ParamSet& render, const Image& output,

@@ -2,7 +2,6 @@
 
 #include <sys/utsname.h>
 
-#include <chrono>
 #include <fstream>
 #include <thread>
 
@@ -36,38 +35,27 @@ CheckedRequest check_request(const RenderRequest& request) {
 }
 
 FrameResult run_frame(const RenderRequest& request, const CheckedRequest& checked, Image* direct, int direct_samples) {
-  using Clock = std::chrono::steady_clock;
-  auto seconds_since = [](Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-  };
   FrameResult result;
   const MethodInfo& info = checked.method->info();
   std::unique_ptr<CausticMethod> method = checked.method->create();
-  SceneFrame frame(*request.scene, request.frame);
-  Tracer tracer(frame);
-  result.gbuffer = render_gbuffer(tracer);
-
-  auto start = Clock::now();
-  method->prepare(*request.scene, select_phase(checked.params, info.params, ParamPhase::build));
-  result.timings.prepare_seconds = seconds_since(start);
-
-  start = Clock::now();
-  method->update(FrameContext{frame, tracer});
-  result.timings.update_milliseconds = seconds_since(start) * 1e3;
-
-  start = Clock::now();
-  result.caustic = method->render(result.gbuffer, select_phase(checked.params, info.params, ParamPhase::render));
-  result.timings.render_milliseconds = seconds_since(start) * 1e3;
-
+  const PhaseKnobs knobs = split_phases(checked.params, info.params);
+  RestPose rest(*request.scene, {request.frame});
+  PosedFrame posed(*request.scene, request.frame);
+  result.prepare = prepare_method(*method, rest.context(), knobs.build, request.build_cache);
+  result.timings.prepare_seconds = result.prepare.prepare_seconds;
+  std::vector<SequenceOutput> outputs =
+      play_sequence(*method, {&posed}, knobs.frame, {knobs.render}, TimingProtocol{false, 1});
+  const FrameTimings& timings = outputs.front().timings.front();
+  result.timings.update_milliseconds = timings.update_ms.front();
+  result.timings.render_milliseconds = timings.render_ms.front();
+  if (!timings.gpu_render_ms.empty()) result.timings.gpu_render_milliseconds = timings.gpu_render_ms.front();
+  result.caustic = std::move(outputs.front().images.front());
+  result.gbuffer = std::move(posed.gbuffer);
   result.memory_bytes = method->memory_bytes();
   result.counters = method->counters();
   result.method_record = method->record();
-  result.gbuffer.clear_outside_receivers(result.caustic);
-  if (!request.dump_folder.empty()) {
-    method->dump_frame(result.gbuffer, select_phase(checked.params, info.params, ParamPhase::render), result.caustic,
-                       request.dump_folder);
-  }
-  if (direct) *direct = direct_irradiance(tracer, result.gbuffer, direct_samples, 12345);
+  if (!request.dump_folder.empty()) method->dump_frame(result.gbuffer, knobs.render, result.caustic, request.dump_folder);
+  if (direct) *direct = direct_irradiance(posed.tracer, result.gbuffer, direct_samples, 12345);
   return result;
 }
 

@@ -1,12 +1,14 @@
-// Runs one method on one frame of a scene through its three timed phases. Shared by `causticbench
-// render` and the experiment runner.
+// One method on one frame of a scene, through the lifecycle driver (methods/lifecycle.h):
+// `causticbench render` and the tests.
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "methods/lifecycle.h"
 #include "methods/registry.h"
 
 namespace causticbench {
@@ -15,6 +17,7 @@ struct PhaseTimings {
   double prepare_seconds = 0.0;
   double update_milliseconds = 0.0;
   double render_milliseconds = 0.0;
+  std::optional<double> gpu_render_milliseconds;
 };
 
 // Everything a render needs, checked before any work starts (InputError on any defect).
@@ -24,6 +27,7 @@ struct RenderRequest {
   ParamDict params;
   int frame = 0;
   std::string dump_folder;  // --dump-frame: the method writes its GPU inputs and output here
+  std::string build_cache;  // a build cache folder (results/builds), or "" for none
 };
 
 struct CheckedRequest {
@@ -37,13 +41,15 @@ struct FrameResult {
   GBuffer gbuffer;
   Image caustic;
   PhaseTimings timings;
+  PrepareOutcome prepare;
   size_t memory_bytes = 0;
   Counters counters;
   nlohmann::json method_record;
 };
 
-// Poses the frame, builds the tracer and the G-buffer, then prepare/update/render. If `direct` is not
-// null it also receives the direct irradiance (for the composite) computed with `direct_samples`.
+// Poses the frame, builds the tracer and the G-buffer, then check/prepare/update/render, each phase
+// once and timed. If `direct` is not null it also receives the direct irradiance (for the composite)
+// computed with `direct_samples`.
 FrameResult run_frame(const RenderRequest& request, const CheckedRequest& checked, Image* direct = nullptr,
                       int direct_samples = 16);
 

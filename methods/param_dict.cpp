@@ -1,6 +1,7 @@
 #include "methods/param_dict.h"
 
 #include <cmath>
+#include <algorithm>
 #include <cstdlib>
 
 #include <fmt/format.h>
@@ -9,19 +10,40 @@ namespace causticbench {
 
 ParamSpec ParamSpec::integer(std::string name, int64_t fallback, double min_value, double max_value,
                              std::string meaning, ParamPhase phase) {
-  return ParamSpec{std::move(name), ParamType::integer, fallback, min_value, max_value, {}, std::move(meaning), phase};
+  return ParamSpec{std::move(name), ParamType::integer, fallback, min_value, max_value, {}, std::move(meaning), phase,
+                   std::nullopt};
 }
 ParamSpec ParamSpec::real(std::string name, double fallback, double min_value, double max_value, std::string meaning,
                           ParamPhase phase) {
-  return ParamSpec{std::move(name), ParamType::real, fallback, min_value, max_value, {}, std::move(meaning), phase};
+  return ParamSpec{std::move(name), ParamType::real, fallback, min_value, max_value, {}, std::move(meaning), phase,
+                   std::nullopt};
 }
 ParamSpec ParamSpec::boolean(std::string name, bool fallback, std::string meaning, ParamPhase phase) {
-  return ParamSpec{std::move(name), ParamType::boolean, fallback, 0, 1, {}, std::move(meaning), phase};
+  return ParamSpec{std::move(name), ParamType::boolean, fallback, 0, 1, {}, std::move(meaning), phase, std::nullopt};
 }
 ParamSpec ParamSpec::choice(std::string name, std::string fallback, std::vector<std::string> choices,
                             std::string meaning, ParamPhase phase) {
   return ParamSpec{std::move(name), ParamType::choice, std::move(fallback), 0, 0, std::move(choices),
-                   std::move(meaning), phase};
+                   std::move(meaning), phase, std::nullopt};
+}
+
+std::string phase_name(ParamPhase phase) {
+  switch (phase) {
+    case ParamPhase::build: return "build";
+    case ParamPhase::frame: return "frame";
+    case ParamPhase::render: return "render";
+  }
+  return "?";
+}
+
+ParamSpec& ParamSpec::only_when(std::string knob, std::vector<std::string> values) {
+  applies_when = ParamCondition{std::move(knob), std::move(values)};
+  return *this;
+}
+
+std::string ParamSpec::condition_text() const {
+  if (!applies_when) return "";
+  return applies_when->knob + (applies_when->values.size() == 1 ? " is " : " is one of ") + join(applies_when->values, ", ");
 }
 
 std::string ParamSpec::type_name() const {
@@ -90,7 +112,8 @@ void ParamDict::set_from_config(const ConfigNode& map) {
   }
 }
 
-ParamSet ParamDict::resolve(const std::vector<ParamSpec>& specs, const std::string& owner) const {
+ParamSet ParamDict::resolve(const std::vector<ParamSpec>& specs, const std::string& owner,
+                            const std::set<std::string>& droppable) const {
   std::vector<std::string> names;
   for (const ParamSpec& spec : specs) names.push_back(spec.name);
   for (const auto& [key, entry] : entries_) {
@@ -105,6 +128,25 @@ ParamSet ParamDict::resolve(const std::vector<ParamSpec>& specs, const std::stri
   ParamSet result;
   for (const ParamSpec& spec : specs) {
     auto it = entries_.find(spec.name);
+    if (spec.applies_when) {
+      // The controlling knob is declared earlier, so it is resolved (or itself does not apply).
+      const ParamCondition& condition = *spec.applies_when;
+      bool applies = result.has(condition.knob) &&
+                     std::find(condition.values.begin(), condition.values.end(),
+                               format_param_value(result.values().at(condition.knob))) != condition.values.end();
+      if (!applies) {
+        if (it != entries_.end() && !droppable.count(spec.name)) {
+          std::string found = result.has(condition.knob)
+                                  ? condition.knob + " is " + format_param_value(result.values().at(condition.knob))
+                                  : condition.knob + " does not apply either";
+          throw_input_error(it->second.where, owner + "." + spec.name,
+                            fmt::format("'{}' only where it applies ({}): remove it, or set {}", spec.name,
+                                        spec.condition_text(), spec.condition_text()),
+                            found);
+        }
+        continue;
+      }
+    }
     if (it == entries_.end()) {
       result.set(spec.name, spec.default_value);
       continue;

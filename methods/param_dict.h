@@ -6,6 +6,8 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
+#include <set>
 #include <string>
 #include <variant>
 #include <vector>
@@ -18,8 +20,20 @@
 namespace causticbench {
 
 enum class ParamType { integer, real, boolean, choice };
-// Build knobs feed prepare() (reused for every render knob); render knobs feed render().
-enum class ParamPhase { build, render };
+// The three phases of a method's life (docs/design.md, "Knob phases"): build knobs feed prepare() and
+// are fixed for the life of a prepared instance; frame knobs feed update() (interpolation and blending
+// choices, per-frame sampling), so runs that differ only in them share one prepare(); render knobs
+// feed render(), so runs that differ only in them also share update().
+enum class ParamPhase { build, frame, render };
+std::string phase_name(ParamPhase phase);
+
+// When a knob applies: only while another knob (a choice or boolean declared before it) has one of
+// the listed values, as `sh_order` only under `storage: sh`. A knob that does not apply is an error
+// when set, is absent from the resolved ParamSet and so from the run key.
+struct ParamCondition {
+  std::string knob;
+  std::vector<std::string> values;
+};
 
 using ParamValue = std::variant<bool, int64_t, double, std::string>;
 
@@ -32,6 +46,7 @@ struct ParamSpec {
   std::vector<std::string> choices;
   std::string meaning;
   ParamPhase phase = ParamPhase::render;
+  std::optional<ParamCondition> applies_when;  // none: always applies
 
   static ParamSpec integer(std::string name, int64_t fallback, double min_value, double max_value, std::string meaning,
                            ParamPhase phase);
@@ -41,8 +56,13 @@ struct ParamSpec {
   static ParamSpec choice(std::string name, std::string fallback, std::vector<std::string> choices, std::string meaning,
                           ParamPhase phase);
 
+  // Declares when the knob applies (see ParamCondition); returns *this for chaining on a factory.
+  ParamSpec& only_when(std::string knob, std::vector<std::string> values);
+
   std::string type_name() const;
   std::string range_text() const;
+  // "storage is sh", or "" when the knob always applies.
+  std::string condition_text() const;
 };
 
 std::string format_param_value(const ParamValue& value);
@@ -79,9 +99,11 @@ class ParamDict {
   bool empty() const { return entries_.empty(); }
   const std::map<std::string, Entry>& entries() const { return entries_; }
 
-  // Checks every entry against the specs (unknown key, type, range) and fills in defaults.
-  // `owner` names the method in messages.
-  ParamSet resolve(const std::vector<ParamSpec>& specs, const std::string& owner) const;
+  // Checks every entry against the specs (unknown key, type, range, a knob set where it does not
+  // apply) and fills in the defaults of the knobs that apply. `owner` names the method in messages.
+  // Entries named in `droppable` (knobs a sweep varies) are dropped silently where they do not apply.
+  ParamSet resolve(const std::vector<ParamSpec>& specs, const std::string& owner,
+                   const std::set<std::string>& droppable = {}) const;
 
  private:
   std::map<std::string, Entry> entries_;

@@ -1,5 +1,7 @@
 #include "methods/registry.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "methods/photon_map/photon_map.h"
@@ -13,16 +15,33 @@ template <typename Method>
 MethodEntry entry() {
   return MethodEntry{&Method::static_info, [] { return std::make_unique<Method>(); }};
 }
-}  // namespace
 
-const std::vector<MethodEntry>& method_registry() {
+std::vector<MethodEntry>& mutable_registry() {
   // One line per method. Add yours here (see docs/adding-a-method.md).
-  static const std::vector<MethodEntry> registry = {
+  static std::vector<MethodEntry> registry = {
       entry<ReferenceMethod>(),
       entry<PhotonMapMethod>(),
       entry<PinholeMethod>(),
   };
   return registry;
+}
+
+}  // namespace
+
+const std::vector<MethodEntry>& method_registry() { return mutable_registry(); }
+
+ScopedMethodRegistration::ScopedMethodRegistration(MethodEntry method) : name_(method.info().name) {
+  for (const MethodEntry& existing : mutable_registry()) {
+    if (existing.info().name == name_) throw std::logic_error("method '" + name_ + "' is registered already");
+  }
+  mutable_registry().push_back(std::move(method));
+}
+
+ScopedMethodRegistration::~ScopedMethodRegistration() {
+  auto& registry = mutable_registry();
+  registry.erase(std::remove_if(registry.begin(), registry.end(),
+                                [&](const MethodEntry& method) { return method.info().name == name_; }),
+                 registry.end());
 }
 
 std::vector<std::string> method_names() {

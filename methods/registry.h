@@ -21,4 +21,18 @@ std::vector<std::string> method_names();
 const MethodEntry& find_method(const std::string& name);
 std::unique_ptr<CausticMethod> create_method(const std::string& name);
 
+// For tests: adds a method to the registry (after the built-in ones) until destroyed, so that a test
+// can drive a synthetic method through experiments and the runner. Not for built-in methods: those
+// are the lines of registry.cpp.
+class ScopedMethodRegistration {
+ public:
+  explicit ScopedMethodRegistration(MethodEntry entry);
+  ~ScopedMethodRegistration();
+  ScopedMethodRegistration(const ScopedMethodRegistration&) = delete;
+  ScopedMethodRegistration& operator=(const ScopedMethodRegistration&) = delete;
+
+ private:
+  std::string name_;
+};
+
 }  // namespace causticbench

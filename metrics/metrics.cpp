@@ -19,7 +19,6 @@ namespace causticbench {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // Rec. 709 / sRGB luminance weights.
@@ -67,18 +66,18 @@ double luminance(const Image& image, size_t pixel) {
          kLuminance[2] * image.at(pixel, 2);
 }
 
-// Mean SSIM over `valid` pixels (the mask with non-finite test pixels removed; at least one is set).
-double masked_ssim(const Image& test, const Image& reference, const std::vector<uint8_t>& valid) {
+// The reference's largest luminance over `valid`: SSIM's dynamic range.
+double reference_luminance_peak(const Image& reference, const std::vector<uint8_t>& valid) {
+  double peak = 0.0;
+  for (size_t pixel = 0; pixel < valid.size(); ++pixel)
+    if (valid[pixel]) peak = std::max(peak, luminance(reference, pixel));
+  return peak;
+}
+
+// Mean SSIM over `valid` pixels (the mask with non-finite test pixels removed; at least one is set),
+// with dynamic range `peak` > 0.
+double masked_ssim(const Image& test, const Image& reference, const std::vector<uint8_t>& valid, double peak) {
   const int width = reference.width(), height = reference.height();
-  double reference_peak = 0.0, test_peak = 0.0;
-  for (size_t pixel = 0; pixel < valid.size(); ++pixel) {
-    if (!valid[pixel]) continue;
-    reference_peak = std::max(reference_peak, luminance(reference, pixel));
-    test_peak = std::max(test_peak, luminance(test, pixel));
-  }
-  // A black reference has no range of its own: fall back to the test's, and two black images are identical.
-  double peak = reference_peak > 0.0 ? reference_peak : test_peak;
-  if (!(peak > 0.0)) return 1.0;
   const double scale = kOpenCvSsimRange / peak;
 
   cv::Mat reference_luminance(height, width, CV_64F, cv::Scalar(0.0));
@@ -112,6 +111,83 @@ double masked_ssim(const Image& test, const Image& reference, const std::vector<
   return sum / static_cast<double>(count);
 }
 
+const char* const kNoValidPixel = "no receiver pixel with a finite test value";
+
+// The valid pixels V (masked, finite test value) and the sums over them that the metrics share.
+struct FrameSums {
+  std::vector<uint8_t> valid;
+  size_t count = 0;
+  size_t nonfinite_pixels = 0;
+  double squared_error = 0.0;
+  double max_error = 0.0;
+  double reference_peak = -kInfinity;  // largest reference channel
+};
+
+FrameSums frame_sums(const Image& test, const Image& reference, const std::vector<uint8_t>& mask) {
+  FrameSums sums;
+  sums.valid.assign(reference.pixel_count(), 0);
+  for (size_t pixel = 0; pixel < reference.pixel_count(); ++pixel) {
+    if (!mask[pixel]) continue;
+    if (!pixel_finite(test, pixel)) {
+      ++sums.nonfinite_pixels;
+      continue;
+    }
+    sums.valid[pixel] = 1;
+    ++sums.count;
+    for (int c = 0; c < 3; ++c) {
+      double difference = static_cast<double>(test.at(pixel, c)) - reference.at(pixel, c);
+      sums.squared_error += difference * difference;
+      sums.max_error = std::max(sums.max_error, std::abs(difference));
+      sums.reference_peak = std::max(sums.reference_peak, static_cast<double>(reference.at(pixel, c)));
+    }
+  }
+  return sums;
+}
+
+MetricValue defined(double value) { return {value, ""}; }
+MetricValue undefined(const std::string& reason) { return {std::nullopt, reason}; }
+
+MetricValue psnr(const FrameSums& sums, double mse) {
+  if (!(sums.reference_peak > 0.0))
+    return undefined("the reference is 0 over the receivers: PSNR has no peak to compare the error with");
+  return defined(mse == 0.0 ? kInfinity : 10.0 * std::log10(sums.reference_peak * sums.reference_peak / mse));
+}
+
+MetricValue relmse(const Image& test, const Image& reference, const FrameSums& sums) {
+  if (masked_mean(reference, sums.valid) == 0.0)
+    return undefined("the reference is 0 over the receivers: relMSE has no scale (its epsilon is 0.1 x the "
+                     "reference's mean)");
+  return defined(relative_mse(test, reference, sums.valid));
+}
+
+MetricValue energy_ratio(const Image& test, const Image& reference, const FrameSums& sums) {
+  double reference_sum = masked_sum(reference, sums.valid);
+  if (reference_sum == 0.0)
+    return undefined("the reference's caustic flux over the receivers is 0: no ratio (0/0 or x/0)");
+  return defined(masked_sum(test, sums.valid) / reference_sum);
+}
+
+MetricValue ssim(const Image& test, const Image& reference, const FrameSums& sums) {
+  double peak = reference_luminance_peak(reference, sums.valid);
+  if (!(peak > 0.0))
+    return undefined("the reference is 0 over the receivers: SSIM has no dynamic range to normalise by");
+  return defined(masked_ssim(test, reference, sums.valid, peak));
+}
+
+MetricValue frame_metric(const std::string& name, const Image& test, const Image& reference, const FrameSums& sums) {
+  if (name == "nonfinite_pixels") return defined(static_cast<double>(sums.nonfinite_pixels));
+  if (sums.count == 0) return undefined(kNoValidPixel);
+  const double mse = sums.squared_error / (3.0 * static_cast<double>(sums.count));
+  if (name == "mse") return defined(mse);
+  if (name == "rmse") return defined(std::sqrt(mse));
+  if (name == "max_error") return defined(sums.max_error);
+  if (name == "psnr") return psnr(sums, mse);
+  if (name == "relmse") return relmse(test, reference, sums);
+  if (name == "energy_ratio") return energy_ratio(test, reference, sums);
+  if (name == "ssim") return ssim(test, reference, sums);
+  throw std::logic_error("metrics: no rule computes the per-frame metric '" + name + "'");
+}
+
 }  // namespace
 
 const std::vector<MetricInfo>& metric_registry() {
@@ -120,23 +196,26 @@ const std::vector<MetricInfo>& metric_registry() {
        true},
       {"rmse", false, std::nullopt, "W/m^2", "square root of mse", true},
       {"psnr", true, std::nullopt, "dB",
-       "10 log10(peak^2 / mse), peak = largest reference channel value over the mask; +inf when mse = 0", true},
+       "10 log10(peak^2 / mse), peak = largest reference channel value over the mask; +inf when mse = 0; undefined "
+       "when peak = 0",
+       true},
       {"ssim", true, std::nullopt, "",
        "mean over masked finite pixels of the SSIM map (OpenCV, 11x11 Gaussian sigma 1.5) of Rec. 709 luminance, "
-       "dynamic range = the reference's largest masked luminance",
+       "dynamic range = the reference's largest masked luminance; undefined when that is 0",
        true},
       {"relmse", false, std::nullopt, "",
        "mean over masked finite pixels and RGB channels of (test - reference)^2 / (reference^2 + eps), "
-       "eps = (0.1 mean reference)^2",
+       "eps = (0.1 mean reference)^2; undefined when that mean is 0",
        true},
       {"energy_ratio", false, 1.0, "",
-       "sum of test over masked finite pixels / sum of reference over them (channel mean); best is closest to 1",
+       "sum of test over masked finite pixels / sum of reference over them (channel mean); best is closest to 1; "
+       "undefined when the reference's sum is 0",
        true},
       {"max_error", false, std::nullopt, "W/m^2",
        "largest |test - reference| over masked finite pixels and RGB channels", true},
       {"temporal_flicker", false, std::nullopt, "",
        "mean over frames t>=1 of masked mean |(test_t - test_t-1) - (reference_t - reference_t-1)|, divided by "
-       "the reference's masked mean over all frames",
+       "the reference's masked mean over all frames; undefined when that mean is 0",
        false},
       {"nonfinite_pixels", false, std::nullopt, "pixels",
        "number of masked test pixels with a NaN or infinite channel (excluded from the other metrics)", true},
@@ -172,59 +251,22 @@ MetricValues compute_metrics(const Image& test, const Image& reference, const st
   check_mask(mask, reference);
   check_reference_finite(reference, mask);
 
+  const FrameSums sums = frame_sums(test, reference, mask);
   MetricValues result;
-  const size_t pixels = reference.pixel_count();
-  std::vector<uint8_t> valid(pixels, 0);
-  size_t count = 0;
-  double squared_error = 0.0, max_error = 0.0, peak = -kInfinity;
-  for (size_t pixel = 0; pixel < pixels; ++pixel) {
-    if (!mask[pixel]) continue;
-    if (!pixel_finite(test, pixel)) {
-      ++result.nonfinite_pixels;
-      continue;
-    }
-    valid[pixel] = 1;
-    ++count;
-    for (int c = 0; c < 3; ++c) {
-      double difference = static_cast<double>(test.at(pixel, c)) - reference.at(pixel, c);
-      squared_error += difference * difference;
-      max_error = std::max(max_error, std::abs(difference));
-      peak = std::max(peak, static_cast<double>(reference.at(pixel, c)));
-    }
-  }
-
-  const double mse = count ? squared_error / (3.0 * static_cast<double>(count)) : kNaN;
+  result.nonfinite_pixels = sums.nonfinite_pixels;
   for (const std::string& name : names) {
-    double value = kNaN;
-    if (count == 0) {
-      value = kNaN;
-    } else if (name == "mse") {
-      value = mse;
-    } else if (name == "rmse") {
-      value = std::sqrt(mse);
-    } else if (name == "max_error") {
-      value = max_error;
-    } else if (name == "psnr") {
-      value = mse == 0.0 ? kInfinity : 10.0 * std::log10(peak * peak / mse);
-    } else if (name == "relmse") {
-      value = relative_mse(test, reference, valid);
-    } else if (name == "energy_ratio") {
-      double test_sum = masked_sum(test, valid), reference_sum = masked_sum(reference, valid);
-      if (reference_sum != 0.0)
-        value = test_sum / reference_sum;
-      else
-        value = test_sum == 0.0 ? 1.0 : std::copysign(kInfinity, test_sum);
-    } else if (name == "ssim") {
-      value = masked_ssim(test, reference, valid);
-    }
-    result.values[name] = value;
+    MetricValue value = frame_metric(name, test, reference, sums);
+    if (value.value)
+      result.values[name] = *value.value;
+    else
+      result.undefined[name] = value.undefined_reason;
   }
   result.values["nonfinite_pixels"] = static_cast<double>(result.nonfinite_pixels);
   return result;
 }
 
-double temporal_flicker(const std::vector<Image>& test, const std::vector<Image>& reference,
-                        const std::vector<std::vector<uint8_t>>& masks) {
+MetricValue temporal_flicker(const std::vector<Image>& test, const std::vector<Image>& reference,
+                             const std::vector<std::vector<uint8_t>>& masks) {
   if (test.size() != reference.size() || masks.size() != reference.size())
     throw std::invalid_argument("temporal_flicker: " + std::to_string(test.size()) + " test frames, " +
                                 std::to_string(reference.size()) + " reference frames and " +
@@ -235,7 +277,7 @@ double temporal_flicker(const std::vector<Image>& test, const std::vector<Image>
     check_mask(masks[t], reference[t]);
     check_reference_finite(reference[t], masks[t]);
   }
-  if (reference.size() < 2) return kNaN;
+  if (reference.size() < 2) return undefined("flicker needs at least two frames");
 
   // Denominator: mean of the reference over every masked pixel of every frame.
   double reference_sum = 0.0;
@@ -244,7 +286,7 @@ double temporal_flicker(const std::vector<Image>& test, const std::vector<Image>
     reference_sum += masked_sum(reference[t], masks[t]);
     for (uint8_t m : masks[t]) reference_count += m ? 1 : 0;
   }
-  if (reference_count == 0) return kNaN;
+  if (reference_count == 0) return undefined("no receiver pixel in any frame");
   const double reference_mean = reference_sum / static_cast<double>(reference_count);
 
   double frame_sum = 0.0;
@@ -267,10 +309,11 @@ double temporal_flicker(const std::vector<Image>& test, const std::vector<Image>
     frame_sum += sum / (3.0 * static_cast<double>(count));
     ++frame_count;
   }
-  if (frame_count == 0) return kNaN;
-  const double flicker = frame_sum / static_cast<double>(frame_count);
-  if (reference_mean == 0.0) return flicker == 0.0 ? 0.0 : kInfinity;
-  return flicker / reference_mean;
+  if (frame_count == 0)
+    return undefined("no pair of consecutive frames shares a receiver pixel with finite test values");
+  if (reference_mean == 0.0)
+    return undefined("the reference is 0 over the receivers of every frame: flicker has no scale");
+  return defined(frame_sum / static_cast<double>(frame_count) / reference_mean);
 }
 
 }  // namespace causticbench

@@ -33,26 +33,38 @@ const MetricInfo& find_metric(const std::string& name);
 // non-NaN value is better than NaN.
 bool metric_better(const MetricInfo& metric, double a, double b);
 
+// A metric's value, or why it has none. A metric normalised by a quantity of the reference (PSNR's peak,
+// SSIM's dynamic range, relMSE's mean, the energy ratio's flux, flicker's mean) is undefined when that
+// quantity is 0: a reference with no caustic in view gives no scale, and 0/0 must never read as a
+// perfect score. Which metric is undefined when: docs/metrics.md, "Undefined values".
+struct MetricValue {
+  std::optional<double> value;
+  std::string undefined_reason;  // set exactly when value is empty
+};
+
 struct MetricValues {
-  std::map<std::string, double> values;
+  std::map<std::string, double> values;          // the defined metrics, always with nonfinite_pixels
+  std::map<std::string, std::string> undefined;  // metric name -> why it has no value
   size_t nonfinite_pixels = 0;  // masked test pixels with a NaN or infinite channel
 };
 
 // Computes the named per-frame metrics of `test` against `reference` over `mask` (one byte per pixel,
 // non-zero = counts). Only the first three channels (RGB) are used. Non-finite test pixels are counted
 // in nonfinite_pixels (always also stored as values["nonfinite_pixels"]) and EXCLUDED from every other
-// metric, exactly as if they were outside the mask. If no masked pixel is finite, the other metrics are
-// NaN. Throws InputError for an unknown or non-per-frame name (temporal_flicker), and
-// std::invalid_argument for mismatched sizes or a non-finite reference value inside the mask.
+// metric, exactly as if they were outside the mask. Each requested name lands in exactly one of
+// `values` and `undefined`; if no masked pixel is finite, every other metric is undefined. Throws
+// InputError for an unknown or non-per-frame name (temporal_flicker), and std::invalid_argument for
+// mismatched sizes or a non-finite reference value inside the mask.
 MetricValues compute_metrics(const Image& test, const Image& reference, const std::vector<uint8_t>& mask,
                              const std::vector<std::string>& names);
 
 // Temporal flicker of an animation: mean over frames t>=1 of the masked mean absolute value of
 // (test_t - test_{t-1}) - (reference_t - reference_{t-1}) (all three channels), over pixels masked in both
 // frames and finite in both test frames, divided by the masked mean of the reference over all frames
-// (so it is scale free). Zero when the method's frame-to-frame change equals the reference's. NaN with
-// fewer than two frames or when no frame pair shares a finite masked pixel.
-double temporal_flicker(const std::vector<Image>& test, const std::vector<Image>& reference,
-                        const std::vector<std::vector<uint8_t>>& masks);
+// (so it is scale free). Zero when the method's frame-to-frame change equals the reference's. Undefined
+// with fewer than two frames, when no frame pair shares a finite masked pixel, or when the reference's
+// mean is 0.
+MetricValue temporal_flicker(const std::vector<Image>& test, const std::vector<Image>& reference,
+                             const std::vector<std::vector<uint8_t>>& masks);
 
 }  // namespace causticbench

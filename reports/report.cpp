@@ -232,7 +232,24 @@ struct Run {
   std::string variant, reference_key;
   size_t variant_index = 0;  // into Report::variants
 
-  std::optional<double> metric(const std::string& name) const { return number(member(record, "metrics"), name); }
+  // Its reference had no caustic in view (record "empty_reference", written when the experiment sets
+  // empty_reference_expected): every metric but nonfinite_pixels is undefined, whatever the record holds.
+  bool empty_reference = false;
+
+  // A metric's value; none when the record has none or says it is undefined.
+  std::optional<double> metric(const std::string& name) const {
+    if (!undefined_reason(name).empty()) return std::nullopt;
+    return number(member(record, "metrics"), name);
+  }
+  // Why the run has no value of the metric (docs/metrics.md, "Undefined values"); empty when it has one or
+  // the record gives no reason.
+  std::string undefined_reason(const std::string& name) const {
+    if (empty_reference && metric_info(name) && name != "nonfinite_pixels") {
+      std::string why = string_member(member(record, "empty_reference"), "reason");
+      return why.empty() ? "empty reference" : "empty reference: " + why;
+    }
+    return string_member(member(record, "metrics_undefined"), name);
+  }
   std::optional<double> timing(const std::string& name) const { return number(member(record, "timings"), name); }
   std::optional<double> top(const std::string& name) const { return number(record, name); }
   const json& swept() const { return member(record, "swept"); }
@@ -293,6 +310,7 @@ struct ClaimResult {
   // best: the runs matching `among` (with a value), split by `expect`.
   // better: the runs matching `run` (first) and `than` (other).
   size_t first_count = 0, other_count = 0, failed_first = 0, failed_other = 0;
+  size_t undefined_first = 0, undefined_other = 0;  // ok runs that match but whose value is undefined
   std::optional<ClaimPoint> first, other;  // best: best matching / not matching `expect`;
                                            // better: worst of `run`, best of `than`
   // linear
@@ -434,6 +452,7 @@ void load(Report& report, const std::string& folder_text) {
     run.label = string_member(run.record, "label", run.method + " " + key.substr(0, 8));
     run.error = string_member(run.record, "error");
     if (!run.ok && run.error.empty()) run.error = "(no error message recorded)";
+    run.empty_reference = member(run.record, "empty_reference").is_object();
     report.runs.push_back(std::move(run));
   }
   if (report.runs.empty() && report.missing.empty()) report.notes.push_back("experiment.json names no runs.");
@@ -464,6 +483,9 @@ void load(Report& report, const std::string& folder_text) {
   std::set<std::string> stored;
   bool nonfinite = false;
   for (const Run& run : report.runs) {
+    const json& undefined = member(run.record, "metrics_undefined");
+    if (undefined.is_object())
+      for (const auto& [name, why] : undefined.items()) stored.insert(name);
     const json& metrics = member(run.record, "metrics");
     if (!metrics.is_object()) continue;
     for (const auto& [name, value] : metrics.items()) {
@@ -717,6 +739,13 @@ void write_colour_bar(const fs::path& path) {
   write_png_atomically(coloured, path);
 }
 
+// "relmse 0.012", "relmse undefined", or "empty reference": the primary metric under a run's picture.
+std::string primary_caption(const Report& report, const Run& run) {
+  if (run.empty_reference) return "empty reference";
+  if (auto value = run.metric(report.primary)) return report.primary + " " + num(*value);
+  return report.primary + (run.undefined_reason(report.primary).empty() ? " \u2014" : " undefined");
+}
+
 struct ReferenceFrame {
   Image image;
   double mean = 0.0;  // masked mean (average of RGB) over the lit pixels
@@ -783,7 +812,9 @@ void make_images(Report& report, std::set<std::string>& written) {
     float exposure = reference.mean > 0.0 ? static_cast<float>(kMiddleGrey / reference.mean) : 1.0f;
     write_thumbnail(reference.image, images / thumb.ec_png, exposure);
     written.insert(thumb.ec_png);
+    if (!(reference.mean > 0.0)) thumb.note = "black over the receivers: no error maps against it";
     report.thumbnails.push_back(thumb);
+    if (!(reference.mean > 0.0)) continue;  // error maps need the reference's mean as their scale
     scales.push_back((report.multi() ? variant.name + " " : std::string()) + num(kErrorScale * reference.mean) +
                      " W/m\u00b2");
   }
@@ -801,10 +832,8 @@ void make_images(Report& report, std::set<std::string>& written) {
       if (run.method != method) continue;
       Thumbnail thumb;
       thumb.title = report.display(i);
-      auto value = run.metric(report.primary);
       auto time = run.frame_ms();
-      thumb.caption = fmt::format("{} {}{}", report.primary, value ? num(*value) : "\u2014",
-                                  time ? " \u00b7 " + num(*time) + " ms" : "");
+      thumb.caption = primary_caption(report, run) + (time ? " \u00b7 " + num(*time) + " ms" : "");
       const json& run_frames = member(run.record, "frames");
       if (!run_frames.is_array() || run_frames.empty()) {
         thumb.note = "no frames recorded";
@@ -818,7 +847,9 @@ void make_images(Report& report, std::set<std::string>& written) {
       try {
         Image image = read_exr(path.string());
         ReferenceFrame& reference = reference_frame(run.reference_key, frame);
-        double mean = reference.ok ? reference.mean : masked_mean(image, lit_mask(image));
+        // A black reference gives no exposure: the run is then exposed on its own light, so that light the
+        // method puts where the reference has none shows.
+        double mean = reference.ok && reference.mean > 0.0 ? reference.mean : masked_mean(image, lit_mask(image));
         float exposure = mean > 0.0 ? static_cast<float>(kMiddleGrey / mean) : 1.0f;
         std::string stem = file_safe(run.key);
         thumb.ec_png = stem + ".png";
@@ -1218,7 +1249,16 @@ struct Cell {
   bool best = false;
   bool numeric = false;
   bool warn = false;
+  std::string undefined = {};  // why the cell has no value: shown as a footnote (and, in HTML, on hover)
 };
+
+// The cell of a metric value: the number, or no value with the reason it is undefined.
+Cell metric_cell(const Run& run, const std::string& metric) {
+  auto value = run.metric(metric);
+  if (value) return {num(*value), false, true};
+  std::string why = run.undefined_reason(metric);
+  return {why.empty() ? "\u2014" : "", false, true, false, why};
+}
 
 struct Table {
   std::vector<std::string> header;
@@ -1286,6 +1326,7 @@ Table results_table(const Report& report) {
     std::vector<Cell> row;
     std::string label = run.label;
     if (report.on_overall_front(i)) label += " \u25c6";
+    if (run.empty_reference) label += " (empty reference)";
     row.push_back({run.method});
     row.push_back({label});
     row.push_back({run.swept_text()});
@@ -1296,7 +1337,7 @@ Table results_table(const Report& report) {
     }
     for (const std::string& metric : report.metrics) {
       auto value = run.metric(metric);
-      Cell cell{value ? num(*value) : "\u2014", false, true};
+      Cell cell = metric_cell(run, metric);
       if (finite(value) && best.count(metric) && !better(metric, best[metric], *value)) cell.best = true;
       if (metric == "nonfinite_pixels" && value && *value > 0) cell.warn = true;
       row.push_back(cell);
@@ -1371,6 +1412,15 @@ bool matches(const Run& run, const json& row) {
   return true;
 }
 
+// "Ours" beside a paper value: `value`, else "not run" without a run, an undefined metric's empty cell with
+// its reason, or "\u2014".
+Cell ours_cell(const Run* run, const std::string& column, const std::optional<double>& value) {
+  if (value) return {num(*value), false, true};
+  if (!run) return {"not run", false, true};
+  if (run->ok && !run->undefined_reason(column).empty()) return metric_cell(*run, column);
+  return {"\u2014", false, true};
+}
+
 Table paper_table(const Report& report) {
   Table table;
   const json& paper = member(report.experiment, "paper");
@@ -1404,7 +1454,7 @@ Table paper_table(const Report& report) {
         cells.push_back(
             {paper_value.is_number() ? num(paper_value.get<double>()) : value_text(paper_value), false, true});
         std::optional<double> value = run && run->ok ? ours(*run, column) : std::nullopt;
-        cells.push_back({value ? num(*value) : (run ? "\u2014" : "not run"), false, true});
+        cells.push_back(ours_cell(run, column, value));
         if (value && paper_value.is_number() && paper_value.get<double>() != 0.0)
           cells.push_back({"\u00d7" + fmt::format("{:.3g}", *value / paper_value.get<double>()), false, true});
         else
@@ -1452,11 +1502,13 @@ std::optional<double> knob_number(const json& knobs, const std::string& name) {
   return std::nullopt;
 }
 
-// The ok runs matching `filter` that have a value of `quantity`, and how many failed runs match it.
+// The ok runs matching `filter` that have a value of `quantity`, how many failed runs match it, and how
+// many ok runs match it with an undefined value (docs/metrics.md, "Undefined values").
 std::vector<ClaimPoint> claim_points(const Report& report, const std::string& filter, const std::string& quantity,
-                                     size_t& failed) {
+                                     size_t& failed, size_t& undefined) {
   std::vector<ClaimPoint> points;
   failed = 0;
+  undefined = 0;
   for (size_t i = 0; i < report.runs.size(); ++i) {
     const Run& run = report.runs[i];
     if (!record_matches_filter(run.record, filter)) continue;
@@ -1464,7 +1516,10 @@ std::vector<ClaimPoint> claim_points(const Report& report, const std::string& fi
       ++failed;
       continue;
     }
-    if (auto value = claim_value(run, quantity)) points.push_back({i, *value});
+    if (auto value = claim_value(run, quantity))
+      points.push_back({i, *value});
+    else if (!run.undefined_reason(quantity).empty())
+      ++undefined;
   }
   return points;
 }
@@ -1512,7 +1567,8 @@ void fit_line(LinearGroup& group) {
 
 void evaluate_best(const Report& report, ClaimResult& result) {
   std::string among = string_member(result.claim, "among"), expect = string_member(result.claim, "expect");
-  std::vector<ClaimPoint> points = claim_points(report, among, result.quantity, result.failed_first);
+  std::vector<ClaimPoint> points =
+      claim_points(report, among, result.quantity, result.failed_first, result.undefined_first);
   std::vector<ClaimPoint> expected, others;
   for (const ClaimPoint& point : points)
     (record_matches_filter(report.runs[point.run].record, expect) ? expected : others).push_back(point);
@@ -1527,9 +1583,11 @@ void evaluate_best(const Report& report, ClaimResult& result) {
 
 void evaluate_better(const Report& report, ClaimResult& result) {
   std::vector<ClaimPoint> mine =
-      claim_points(report, string_member(result.claim, "run"), result.quantity, result.failed_first);
+      claim_points(report, string_member(result.claim, "run"), result.quantity, result.failed_first,
+                   result.undefined_first);
   std::vector<ClaimPoint> theirs =
-      claim_points(report, string_member(result.claim, "than"), result.quantity, result.failed_other);
+      claim_points(report, string_member(result.claim, "than"), result.quantity, result.failed_other,
+                   result.undefined_other);
   result.first_count = mine.size();
   result.other_count = theirs.size();
   result.first = extreme(mine, result.quantity, true);
@@ -1546,7 +1604,7 @@ void evaluate_linear(const Report& report, ClaimResult& result) {
   std::vector<json> knobs;
   std::vector<double> xs, ys;
   for (const ClaimPoint& point : claim_points(report, string_member(result.claim, "among"), result.quantity,
-                                             result.failed_first)) {
+                                             result.failed_first, result.undefined_first)) {
     const Run& run = report.runs[point.run];
     json resolved = run_knobs(run);
     auto x_value = knob_number(resolved, x);
@@ -1648,8 +1706,12 @@ std::string escaped(const std::string& text, Format format) {
 
 std::string runs_text(size_t count) { return fmt::format("{} run{}", count, count == 1 ? "" : "s"); }
 
-std::string failed_note(size_t failed) {
-  return failed ? fmt::format(" ({} failed run{} not counted)", failed, failed == 1 ? "" : "s") : "";
+// " (1 failed run and 2 runs with an undefined value not counted)", or "" when every matching run counted.
+std::string not_counted_note(size_t failed, size_t undefined) {
+  std::vector<std::string> parts;
+  if (failed) parts.push_back(fmt::format("{} failed run{}", failed, failed == 1 ? "" : "s"));
+  if (undefined) parts.push_back(fmt::format("{} with an undefined value", runs_text(undefined)));
+  return parts.empty() ? "" : " (" + join(parts, " and ") + " not counted)";
 }
 
 // Why the claim has its verdict, with the numbers that decided it.
@@ -1661,6 +1723,8 @@ std::string claim_evidence(const Report& report, const ClaimResult& result, Form
     return escaped(report.display(p.run), format) + " (" + quantity + " " + num(p.value) + ")";
   };
   std::string direction = quantity + ": " + escaped(direction_text(result.quantity), format) + ".";
+  const std::string first_note = not_counted_note(result.failed_first, result.undefined_first);
+  const std::string other_note = not_counted_note(result.failed_other, result.undefined_other);
   if (result.kind == "best") {
     std::string among = code_text(string_member(claim, "among"), format);
     std::string expect = code_text(string_member(claim, "expect"), format);
@@ -1668,14 +1732,14 @@ std::string claim_evidence(const Report& report, const ClaimResult& result, Form
     if (result.verdict == "not measured") {
       return fmt::format("{} with a {} value match{} {}{}, {} of them matching {}: the check needs at least 2, "
                          "one matching {} and one not.",
-                         runs_text(total), quantity, total == 1 ? "es" : "", among, failed_note(result.failed_first),
+                         runs_text(total), quantity, total == 1 ? "es" : "", among, first_note,
                          result.first_count, expect, expect);
     }
     bool confirmed = result.verdict == "confirmed";
     const ClaimPoint& best = confirmed ? *result.first : *result.other;
     const ClaimPoint& runner = confirmed ? *result.other : *result.first;
     return fmt::format("best of {} matching {}{}: {}, which {} {}; best run {} it: {}. {}", runs_text(total), among,
-                       failed_note(result.failed_first), point(best), confirmed ? "matches" : "does not match",
+                       first_note, point(best), confirmed ? "matches" : "does not match",
                        expect, confirmed ? "not matching" : "matching", point(runner), direction);
   }
   if (result.kind == "better") {
@@ -1684,19 +1748,19 @@ std::string claim_evidence(const Report& report, const ClaimResult& result, Form
     if (result.verdict == "not measured") {
       return fmt::format("{} with a {} value match{} {}{}, {} match{} {}{}: the check needs at least 1 on each side.",
                          runs_text(result.first_count), quantity, result.first_count == 1 ? "es" : "", run,
-                         failed_note(result.failed_first), result.other_count, result.other_count == 1 ? "es" : "",
-                         than, failed_note(result.failed_other));
+                         first_note, result.other_count, result.other_count == 1 ? "es" : "",
+                         than, other_note);
     }
     return fmt::format("worst of {} matching {}{}: {}; best of {} matching {}{}: {}. {}",
-                       runs_text(result.first_count), run, failed_note(result.failed_first), point(*result.first),
-                       runs_text(result.other_count), than, failed_note(result.failed_other), point(*result.other),
+                       runs_text(result.first_count), run, first_note, point(*result.first),
+                       runs_text(result.other_count), than, other_note, point(*result.other),
                        direction);
   }
   std::string x = escaped(string_member(claim, "x"), format);
   std::string among = code_text(string_member(claim, "among"), format);
   std::string grouped = result.group_by.empty() ? "" : ", grouped by " + escaped(join(result.group_by, ", "), format);
   std::string text = fmt::format("{} against {} over {} matching {}{}{}", quantity, x, runs_text(result.points), among,
-                                 failed_note(result.failed_first), grouped);
+                                 first_note, grouped);
   if (result.verdict == "not measured") {
     return text + fmt::format(": no {} has {} points with different {} values to fit.",
                               result.group_by.empty() ? "set" : "group", kLinearMinPoints, x);
@@ -1737,6 +1801,7 @@ json claim_json(const Report& report, const ClaimResult& result) {
                {"runs", result.first_count + result.other_count},
                {"matching_expect", result.first_count},
                {"failed_runs", result.failed_first},
+               {"undefined_runs", result.undefined_first},
                {"best_matching_expect", claim_point_json(report, result.first)},
                {"best_not_matching_expect", claim_point_json(report, result.other)}};
     if (result.verdict != "not measured")
@@ -1746,6 +1811,7 @@ json claim_json(const Report& report, const ClaimResult& result) {
                {"run_runs", result.first_count},
                {"than_runs", result.other_count},
                {"failed_runs", result.failed_first + result.failed_other},
+               {"undefined_runs", result.undefined_first + result.undefined_other},
                {"worst_of_run", claim_point_json(report, result.first)},
                {"best_of_than", claim_point_json(report, result.other)}};
   } else {
@@ -1764,7 +1830,8 @@ json claim_json(const Report& report, const ClaimResult& result) {
       }
       groups.push_back(entry);
     }
-    details = {{"n", result.points}, {"failed_runs", result.failed_first}, {"min_r2", result.min_r2},
+    details = {{"n", result.points}, {"failed_runs", result.failed_first}, {"undefined_runs", result.undefined_first},
+               {"min_r2", result.min_r2},
                {"group_by", result.group_by}, {"groups", groups}};
     if (fitted == 1) details.update({{"slope", only->slope}, {"intercept", only->intercept}, {"r2", only->r2}});
   }
@@ -1863,13 +1930,18 @@ std::vector<std::string> findings(const Report& report, bool html) {
   lines.push_back(fmt::format("{} runs: {} ok, {} failed{}.", report.runs.size() + report.missing.size(),
                               report.runs.size() - report.failed_count(), report.failed_count(),
                               report.missing.empty() ? "" : fmt::format(", {} not run yet", report.missing.size())));
+  size_t empty = 0;
+  for (size_t i : report.ok_runs()) empty += report.runs[i].empty_reference ? 1 : 0;
+  if (empty)
+    lines.push_back(fmt::format("{} run{} against an empty reference (no caustic in view; the experiment sets "
+                                "empty_reference_expected): reported as \"empty reference\", not scored, and left out "
+                                "of best values, fronts, claims and plots; timings are still shown.",
+                                empty, empty == 1 ? "" : "s"));
   if (!report.claims.empty())
     lines.push_back(claims_count_text(report) + (html ? " See <a href=\"#claims\">Claims</a>." : " See Claims below."));
   auto describe = [&](size_t i) {
-    const Run& run = report.runs[i];
-    auto value = run.metric(report.primary);
-    auto time = run.frame_ms();
-    return fmt::format("{} ({} {}, {} ms)", name(i), report.primary, value ? num(*value) : "\u2014",
+    auto time = report.runs[i].frame_ms();
+    return fmt::format("{} ({}, {} ms)", name(i), primary_caption(report, report.runs[i]),
                        time ? num(*time) : "\u2014");
   };
   // One set of lines per variant (best, fastest, front and noise floor compare runs of one variant only).
@@ -1908,6 +1980,20 @@ std::vector<std::string> findings(const Report& report, bool html) {
 // ---------------------------------------------------------------------------------------------------
 // Markdown.
 
+// The distinct reasons of a table's undefined cells, in the order they first appear: its footnotes.
+std::vector<std::string> undefined_notes(const Table& table) {
+  std::vector<std::string> notes;
+  for (const auto& row : table.rows)
+    for (const Cell& cell : row)
+      if (!cell.undefined.empty() && std::find(notes.begin(), notes.end(), cell.undefined) == notes.end())
+        notes.push_back(cell.undefined);
+  return notes;
+}
+
+size_t note_number(const std::vector<std::string>& notes, const std::string& note) {
+  return static_cast<size_t>(std::find(notes.begin(), notes.end(), note) - notes.begin()) + 1;
+}
+
 void markdown_table(std::string& out, const Table& table) {
   out += "|";
   for (const std::string& name : table.header) out += " " + md_escape(name) + " |";
@@ -1919,13 +2005,19 @@ void markdown_table(std::string& out, const Table& table) {
     out += numeric ? "--:|" : "---|";
   }
   out += "\n";
+  const std::vector<std::string> notes = undefined_notes(table);
   for (const auto& row : table.rows) {
     out += "|";
-    for (const Cell& cell : row)
-      out += " " + (cell.best ? "**" + md_escape(cell.text) + "**" : md_escape(cell.text)) + " |";
+    for (const Cell& cell : row) {
+      std::string text = cell.best ? "**" + md_escape(cell.text) + "**" : md_escape(cell.text);
+      if (!cell.undefined.empty()) text = fmt::format("\u2014 [{}]", note_number(notes, cell.undefined));
+      out += " " + text + " |";
+    }
     out += "\n";
   }
   out += "\n";
+  for (size_t n = 0; n < notes.size(); ++n) out += fmt::format("- [{}] undefined: {}\n", n + 1, md_escape(notes[n]));
+  if (!notes.empty()) out += "\n";
 }
 
 std::string markdown(const Report& report) {
@@ -2037,6 +2129,8 @@ td.text { white-space: normal; min-width: 90px; max-width: 300px; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
 td.best { background: var(--best); font-weight: 700; }
 td.warn { background: var(--bad); color: #8a1c1c; white-space: normal; }
+td.undefined { background: #f3f4f6; color: var(--muted); cursor: help; }
+ol.undefined-notes { color: var(--muted); font-size: 12px; margin: 6px 0 0; padding-left: 22px; max-width: 900px; }
 tr:hover td { background-color: #f0f5fb; } tr:hover td.best { background: #c9ebd2; }
 .caption { color: var(--muted); font-size: 12px; margin: 6px 0 0; max-width: 900px; }
 .plots { display: flex; flex-wrap: wrap; gap: 28px 32px; }
@@ -2072,6 +2166,7 @@ void html_table(std::string& out, const Table& table) {
     out += html_escape(table.header[c]) + "</th>";
   }
   out += "</tr></thead><tbody>\n";
+  const std::vector<std::string> notes = undefined_notes(table);
   for (const auto& row : table.rows) {
     out += "<tr>";
     for (const Cell& cell : row) {
@@ -2082,12 +2177,23 @@ void html_table(std::string& out, const Table& table) {
         classes += " text";
       if (cell.best) classes += " best";
       if (cell.warn) classes += " warn";
-      out += classes.empty() ? "<td>" : "<td class=\"" + classes.substr(1) + "\">";
-      out += html_escape(cell.text) + "</td>";
+      if (!cell.undefined.empty()) classes += " undefined";
+      out += classes.empty() ? "<td" : "<td class=\"" + classes.substr(1) + "\"";
+      if (!cell.undefined.empty()) {
+        // No value, only the footnote's number; hovering shows the reason.
+        out += " title=\"undefined: " + html_escape(cell.undefined) + "\">";
+        out += fmt::format("<sup>{}</sup></td>", note_number(notes, cell.undefined));
+        continue;
+      }
+      out += ">" + html_escape(cell.text) + "</td>";
     }
     out += "</tr>\n";
   }
   out += "</tbody></table></div>\n";
+  if (notes.empty()) return;
+  out += "<ol class=\"undefined-notes\">";
+  for (const std::string& note : notes) out += "<li>undefined: " + html_escape(note) + "</li>";
+  out += "</ol>\n";
 }
 
 std::string html(const Report& report) {
@@ -2251,7 +2357,7 @@ for (const [id, spec] of causticbenchPlots) {
 
 std::string csv(const Report& report) {
   // Columns: identity, flattened knobs, metrics, timings, sizes, counters (unions over runs).
-  std::vector<std::string> build, render, metrics = report.metrics, timings, counters;
+  std::vector<std::string> build, frame, render, metrics = report.metrics, timings, counters;
   auto collect = [&](const json& object, std::vector<std::string>& names) {
     if (!object.is_object()) return;
     for (const auto& [name, value] : object.items())
@@ -2261,16 +2367,20 @@ std::string csv(const Report& report) {
   for (const char* name : {"frame_ms_min"}) timings.push_back(name);
   for (const Run& run : report.runs) {
     collect(member(run.record, "build"), build);
+    collect(member(run.record, "frame"), frame);
     collect(member(run.record, "render"), render);
     collect(member(run.record, "metrics"), metrics);
+    collect(member(run.record, "metrics_undefined"), metrics);
     collect(member(run.record, "timings"), timings);
     collect(member(run.record, "counters"), counters);
   }
   std::vector<std::string> header = {"key",   "status", "method",  "label",
                                      "error", "swept",  "variant", "receiver_pixels"};
   for (const auto& name : build) header.push_back("build." + name);
+  for (const auto& name : frame) header.push_back("frame." + name);
   for (const auto& name : render) header.push_back("render." + name);
   for (const auto& name : metrics) header.push_back(name);
+  header.push_back("metrics_undefined");
   for (const auto& name : timings) header.push_back(name);
   for (const char* name : {"prepare_seconds", "memory_bytes", "peak_rss_bytes"}) header.push_back(name);
   for (const auto& name : counters) header.push_back("counter." + name);
@@ -2293,8 +2403,15 @@ std::string csv(const Report& report) {
                                       csv_value(member(run.record, "variant")),
                                       csv_value(run.receiver_pixels())};
     for (const auto& name : build) cells.push_back(csv_value(member(member(run.record, "build"), name)));
+    for (const auto& name : frame) cells.push_back(csv_value(member(member(run.record, "frame"), name)));
     for (const auto& name : render) cells.push_back(csv_value(member(member(run.record, "render"), name)));
-    for (const auto& name : metrics) cells.push_back(csv_value(member(member(run.record, "metrics"), name)));
+    std::vector<std::string> undefined;  // "name: reason" of the metrics without a value, as the tables show them
+    for (const auto& name : metrics) {
+      std::string why = run.undefined_reason(name);
+      if (!why.empty()) undefined.push_back(name + ": " + why);
+      cells.push_back(why.empty() ? csv_value(member(member(run.record, "metrics"), name)) : "");
+    }
+    cells.push_back(csv_cell(join(undefined, "; ")));
     for (const auto& name : timings) cells.push_back(csv_value(member(member(run.record, "timings"), name)));
     for (const char* name : {"prepare_seconds", "memory_bytes", "peak_rss_bytes"})
       cells.push_back(csv_value(member(run.record, name)));

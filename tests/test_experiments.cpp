@@ -25,24 +25,12 @@ namespace fs = std::filesystem;
 namespace {
 
 // A temporary folder with a tiny scene and experiment files.
-class ExperimentFolder {
+class ExperimentFolder : public causticbench::testing::TemporaryFolder {
  public:
-  explicit ExperimentFolder(const std::string& name) : path_(fs::temp_directory_path() / ("causticbench_" + name)) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-    std::string scene = causticbench::testing::kSmallGlassSphere;
-    scene.replace(scene.find("resolution: [40, 40]"), 20, "resolution: [24, 24]");
-    write("scene.yaml", scene);
+  explicit ExperimentFolder(const std::string& name) : TemporaryFolder(name) {
+    write("scene.yaml", causticbench::testing::replace_once(causticbench::testing::kSmallGlassSphere,
+                                                            "resolution: [40, 40]", "resolution: [24, 24]"));
   }
-  ~ExperimentFolder() { fs::remove_all(path_); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path_ / name) << text;
-    return (path_ / name).string();
-  }
-  std::string path(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
 };
 
 const char* kExperiment = R"(name: tiny

@@ -116,15 +116,16 @@ TEST(Metrics, NonFinitePixelsAreCountedAndExcluded) {
   }
 }
 
-TEST(Metrics, AllMaskedPixelsNonFiniteGivesNaN) {
+TEST(Metrics, AllMaskedPixelsNonFiniteLeavesEveryOtherMetricUndefined) {
   Image test = row_image({{kNaN, 0.0f, 0.0f}, {0.0f, -kInf, 0.0f}, {1.0f, 1.0f, 1.0f}});
   Image reference = row_image({{1.0f, 1.0f, 1.0f}, {2.0f, 2.0f, 2.0f}, {1.0f, 1.0f, 1.0f}});
   MetricValues m = compute_metrics(test, reference, {1, 1, 0}, kPerFrame);
   EXPECT_EQ(m.nonfinite_pixels, 2u);
   EXPECT_EQ(m.values.at("nonfinite_pixels"), 2.0);
+  EXPECT_EQ(m.values.size(), 1u);
   for (const std::string& name : kPerFrame) {
     if (name != "nonfinite_pixels") {
-      EXPECT_TRUE(std::isnan(m.values.at(name))) << name;
+      EXPECT_EQ(m.undefined.at(name), "no receiver pixel with a finite test value") << name;
     }
   }
 }
@@ -151,12 +152,78 @@ TEST(Metrics, EnergyRatioEdgeCases) {
   Image black = row_image({{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}});
   Image lit = row_image({{3.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 3.0f}});
   Image half = row_image({{1.5f, 0.0f, 0.0f}, {0.0f, 0.0f, 1.5f}});
-  EXPECT_EQ(compute_metrics(black, black, {1, 1}, {"energy_ratio"}).values.at("energy_ratio"), 1.0);
-  EXPECT_EQ(compute_metrics(lit, black, {1, 1}, {"energy_ratio"}).values.at("energy_ratio"),
-            std::numeric_limits<double>::infinity());
+  // A reference with no caustic flux has no ratio, whatever the test holds: never 1 ("perfect") for 0/0.
+  for (const Image* test : {&black, &lit}) {
+    MetricValues m = compute_metrics(*test, black, {1, 1}, {"energy_ratio"});
+    EXPECT_EQ(m.values.count("energy_ratio"), 0u);
+    EXPECT_NE(m.undefined.at("energy_ratio").find("flux over the receivers is 0"), std::string::npos);
+  }
   EXPECT_EQ(compute_metrics(black, lit, {1, 1}, {"energy_ratio"}).values.at("energy_ratio"), 0.0);
   EXPECT_NEAR(compute_metrics(half, lit, {1, 1}, {"energy_ratio"}).values.at("energy_ratio"), 0.5, 1e-12);
   EXPECT_NEAR(compute_metrics(lit, half, {1, 1}, {"energy_ratio"}).values.at("energy_ratio"), 2.0, 1e-12);
+}
+
+// Every metric on the three pairs an empty reference makes, written test/reference: 0/0 (a method that
+// agrees with an empty reference), 0/x (a method that misses the caustic) and x/0 (a method with light
+// where the reference has none). Metrics in the units of E_c (mse, rmse, max_error) and the count of
+// non-finite pixels always have a value; those normalised by the reference (psnr by its peak, ssim by its
+// range, relmse by its mean, energy_ratio by its flux, temporal_flicker by its mean) are undefined when the
+// reference is 0, whatever the test holds, so 0/0 never reads as a perfect score (docs/metrics.md).
+TEST(Metrics, ValueOrUndefinedOnZeroAndNonZeroPairs) {
+  const Image zero = row_image({{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}});
+  const Image lit = row_image({{3.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 3.0f}});
+  const std::vector<uint8_t> mask = {1, 1};
+  auto defined = [](const MetricValues& m, const std::string& name) {
+    EXPECT_EQ(m.values.count(name) + m.undefined.count(name), 1u) << name << ": exactly one of value and reason";
+    return m.values.count(name) == 1;
+  };
+
+  MetricValues zero_zero = compute_metrics(zero, zero, mask, kPerFrame);
+  for (const char* name : {"mse", "rmse", "max_error", "nonfinite_pixels"}) {
+    ASSERT_TRUE(defined(zero_zero, name)) << name;
+    EXPECT_EQ(zero_zero.values.at(name), 0.0) << name;
+  }
+  for (const char* name : {"psnr", "ssim", "relmse", "energy_ratio"}) {
+    EXPECT_FALSE(defined(zero_zero, name)) << name << " must not be perfect on 0/0";
+    EXPECT_NE(zero_zero.undefined.at(name).find("is 0"), std::string::npos) << zero_zero.undefined.at(name);
+  }
+
+  // 0/x: every difference is the reference, (3, 0, 0) and (0, 0, 3): mse = 18 / 6 = 3, peak 3.
+  MetricValues zero_lit = compute_metrics(zero, lit, mask, kPerFrame);
+  for (const std::string& name : kPerFrame) EXPECT_TRUE(defined(zero_lit, name)) << name;
+  EXPECT_DOUBLE_EQ(zero_lit.values.at("mse"), 3.0);
+  EXPECT_DOUBLE_EQ(zero_lit.values.at("rmse"), std::sqrt(3.0));
+  EXPECT_DOUBLE_EQ(zero_lit.values.at("max_error"), 3.0);
+  EXPECT_NEAR(zero_lit.values.at("psnr"), 10.0 * std::log10(9.0 / 3.0), 1e-12);
+  EXPECT_EQ(zero_lit.values.at("energy_ratio"), 0.0);
+  // relMSE: mean 1, eps 0.01; the two lit channels give 9 / 9.01 each, the four dark ones 0.
+  EXPECT_NEAR(zero_lit.values.at("relmse"), 2.0 * 9.0 / 9.01 / 6.0, 1e-12);
+  // SSIM against a black test: C1 C2 / ((mu_r^2 + C1)(sigma_r^2 + C2)), far below 1.
+  EXPECT_GE(zero_lit.values.at("ssim"), 0.0);
+  EXPECT_LT(zero_lit.values.at("ssim"), 0.01);
+
+  // x/0: the same absolute errors; nothing normalised by the reference has a scale.
+  MetricValues lit_zero = compute_metrics(lit, zero, mask, kPerFrame);
+  for (const char* name : {"mse", "rmse", "max_error", "nonfinite_pixels"})
+    ASSERT_TRUE(defined(lit_zero, name)) << name;
+  EXPECT_DOUBLE_EQ(lit_zero.values.at("mse"), 3.0);
+  EXPECT_DOUBLE_EQ(lit_zero.values.at("rmse"), std::sqrt(3.0));
+  EXPECT_DOUBLE_EQ(lit_zero.values.at("max_error"), 3.0);
+  EXPECT_EQ(lit_zero.values.at("nonfinite_pixels"), 0.0);
+  for (const char* name : {"psnr", "ssim", "relmse", "energy_ratio"}) EXPECT_FALSE(defined(lit_zero, name)) << name;
+
+  // Temporal flicker over two frames of each pair: undefined without reference light, 0 for a black
+  // method that does not change while the (static) reference does not either.
+  const std::vector<std::vector<uint8_t>> masks(2, mask);
+  auto flicker = [&](const Image& test, const Image& reference) {
+    return temporal_flicker({test, test}, {reference, reference}, masks);
+  };
+  MetricValue flicker_zero_zero = flicker(zero, zero), flicker_lit_zero = flicker(lit, zero);
+  EXPECT_FALSE(flicker_zero_zero.value.has_value());
+  EXPECT_FALSE(flicker_lit_zero.value.has_value());
+  EXPECT_NE(flicker_zero_zero.undefined_reason.find("no scale"), std::string::npos)
+      << flicker_zero_zero.undefined_reason;
+  EXPECT_EQ(flicker(zero, lit).value, 0.0);
 }
 
 // 24 x 24 images with smooth structure; `mask` covers a disc, the rest is garbage.
@@ -254,14 +321,14 @@ TEST(Metrics, TemporalFlickerOfStaticAndFlickeringMethods) {
   // A static (even biased) method against a static reference: no flicker.
   std::vector<Image> biased(3, row_image({{2.5f, 1.0f, 2.0f}, {0.0f, 0.0f, 0.0f}}));
   biased[1].at(1, 0) = 50.0f;
-  EXPECT_EQ(temporal_flicker(biased, reference, masks), 0.0);
+  EXPECT_EQ(temporal_flicker(biased, reference, masks).value, 0.0);
 
   // Frame 1 brightens by (0.6, 0.3, 0), frame 2 goes back: each pair's mean |change| is 0.3; the
   // reference's masked mean over all frames is 2, so the flicker is 0.15.
   std::vector<Image> flicker = biased;
   for (Image& frame : flicker) frame.set_rgb(0, Color(2.0f, 2.0f, 2.0f));
   flicker[1].set_rgb(0, Color(2.6f, 2.3f, 2.0f));
-  EXPECT_NEAR(temporal_flicker(flicker, reference, masks), 0.15, 1e-6);
+  EXPECT_NEAR(*temporal_flicker(flicker, reference, masks).value, 0.15, 1e-6);
 }
 
 TEST(Metrics, TemporalFlickerComparesChangesWithTheReference) {
@@ -272,18 +339,18 @@ TEST(Metrics, TemporalFlickerComparesChangesWithTheReference) {
   std::vector<Image> follows = reference;
   for (Image& frame : follows)
     for (float& v : frame.values()) v += 0.5f;
-  EXPECT_NEAR(temporal_flicker(follows, reference, masks), 0.0, 1e-7);
+  EXPECT_NEAR(*temporal_flicker(follows, reference, masks).value, 0.0, 1e-7);
 
   // Lagging: changes (0, 2) against the reference's (1, 1): |-1| and |1|, mean 1, over mean 2 = 0.5.
   std::vector<Image> lags = {row_image({{1.0f, 1.0f, 1.0f}}), row_image({{1.0f, 1.0f, 1.0f}}),
                              row_image({{3.0f, 3.0f, 3.0f}})};
-  EXPECT_NEAR(temporal_flicker(lags, reference, masks), 0.5, 1e-7);
+  EXPECT_NEAR(*temporal_flicker(lags, reference, masks).value, 0.5, 1e-7);
 
   // Scale free.
   for (auto* frames : {&lags, &reference})
     for (Image& frame : *frames)
       for (float& v : frame.values()) v *= 100.0f;
-  EXPECT_NEAR(temporal_flicker(lags, reference, masks), 0.5, 1e-6);
+  EXPECT_NEAR(*temporal_flicker(lags, reference, masks).value, 0.5, 1e-6);
 
   // A pixel masked in only one frame of a pair does not count for that pair.
   std::vector<Image> two_test = {row_image({{1.0f, 1.0f, 1.0f}, {0.0f, 0.0f, 0.0f}}),
@@ -291,10 +358,12 @@ TEST(Metrics, TemporalFlickerComparesChangesWithTheReference) {
   std::vector<Image> two_reference = {row_image({{1.0f, 1.0f, 1.0f}, {1.0f, 1.0f, 1.0f}}),
                                       row_image({{1.0f, 1.0f, 1.0f}, {1.0f, 1.0f, 1.0f}})};
   // Pair 1: only pixel 0, |1 - 0| = 1. Reference mean over the 3 masked (frame, pixel) entries = 1.
-  EXPECT_NEAR(temporal_flicker(two_test, two_reference, {{1, 0}, {1, 1}}), 1.0, 1e-7);
+  EXPECT_NEAR(*temporal_flicker(two_test, two_reference, {{1, 0}, {1, 1}}).value, 1.0, 1e-7);
 
   // Fewer than two frames: undefined.
-  EXPECT_TRUE(std::isnan(temporal_flicker({reference[0]}, {reference[0]}, {masks[0]})));
+  MetricValue single = temporal_flicker({reference[0]}, {reference[0]}, {masks[0]});
+  EXPECT_FALSE(single.value.has_value());
+  EXPECT_EQ(single.undefined_reason, "flicker needs at least two frames");
   EXPECT_THROW(temporal_flicker(lags, reference, {masks[0]}), std::invalid_argument);
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -10,6 +11,7 @@
 #include <unistd.h>
 
 #include "core/image_statistics.h"
+#include "methods/frame_dump.h"
 #include "methods/pinhole/frame_data.h"
 #include "methods/pinhole/light_map.h"
 #include "methods/pinhole/pinhole.h"
@@ -384,12 +386,31 @@ TEST(PinholeVulkan, GpubenchReplaysADumpedFrame) {
                                                     " --dump-frame " + dump,
                                                 output);
   ASSERT_EQ(code, 0) << output;
+  // method.txt names the format that gpubench and gpu-compare read the rest with.
+  EXPECT_EQ(read_dump_method(dump), "pinhole");
+  std::string method_line;
+  std::getline(std::ifstream(dump + "/method.txt"), method_line);
+  EXPECT_EQ(method_line, "pinhole");
   code = causticbench::testing::run_command(std::string(CAUSTICBENCH_GPUBENCH) + " " + dump + " --repetitions 2", output);
   ASSERT_EQ(code, 0) << output;
   EXPECT_NE(output.find("evaluations/s"), std::string::npos) << output;
+  std::stringstream timings;
+  timings << std::ifstream(dump + "/gpu_timings.json").rdbuf();
+  EXPECT_NE(timings.str().find("\"method\": \"pinhole\""), std::string::npos) << timings.str();
+  EXPECT_NE(timings.str().find("\"isotropic_filtering_honours_gradients\""), std::string::npos) << timings.str();
   code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
   EXPECT_EQ(code, 0) << output;
-  EXPECT_NE(output.find("agree"), std::string::npos) << output;
+  EXPECT_NE(output.find("pinhole vulkan against cpu"), std::string::npos) << output;
+  EXPECT_NE(output.find("): agree"), std::string::npos) << output;  // not "disagree"
+  // A dump written before method.txt existed is pinhole's; one without frame.txt either is an input error.
+  fs::remove(dump + "/method.txt");
+  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
+  EXPECT_EQ(code, 0) << output;
+  fs::rename(dump + "/frame.txt", dump + "/frame.txt.moved");
+  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_NE(output.find("method.txt"), std::string::npos) << output;
+  fs::rename(dump + "/frame.txt.moved", dump + "/frame.txt");
   // A corrupted GPU output is caught.
   std::vector<float> wrong = read_floats(dump + "/vulkan_irradiance.bin");
   for (float& value : wrong) value *= 1.01f;
@@ -402,5 +423,30 @@ TEST(PinholeVulkan, GpubenchReplaysADumpedFrame) {
                                             output);
   EXPECT_EQ(code, 2) << output;
   EXPECT_FALSE(fs::exists(folder / "out2"));
+  fs::remove_all(folder);
+}
+
+// gpubench and gpu-compare trust every listed format's name and tolerances; a folder that is not a dump
+// says which file is missing.
+TEST(FrameDumps, FormatsAreCompleteAndAFolderWithoutADumpNamesMethodTxt) {
+  namespace fs = std::filesystem;
+  ASSERT_FALSE(frame_dump_formats().empty());
+  for (const FrameDumpFormat& format : frame_dump_formats()) {
+    EXPECT_FALSE(format.method.empty());
+    EXPECT_GT(format.relmse_tolerance, 0.0) << format.method;
+    EXPECT_GT(format.flux_tolerance, 0.0) << format.method;
+    EXPECT_EQ(&frame_dump_format(format.method), &format);
+  }
+  fs::path folder = fs::temp_directory_path() / "causticbench_dump_method_test";
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  try {
+    read_dump_method(folder.string());
+    ADD_FAILURE() << "read_dump_method accepted a folder without method.txt or frame.txt";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("method.txt"), std::string::npos) << error.what();
+  }
+  write_dump_method(folder.string(), "pinhole");
+  EXPECT_EQ(read_dump_method(folder.string()), "pinhole");
   fs::remove_all(folder);
 }

@@ -1001,6 +1001,92 @@ TEST(ParetoFront, FollowsTheMetricDirection) {
 }
 
 // Without the reference (or with every run failed) the report is still written, with what it lacks said.
+// Undefined values (docs/metrics.md, "Undefined values"): a metric the record lists under
+// "metrics_undefined", and every metric of a run against an empty reference, is an empty cell with its
+// reason as a footnote, and no best value, front, claim, plot or "best" line counts it. Timings still do.
+TEST_F(ReportTest, UndefinedValuesAreEmptyCellsWithTheirReason) {
+  const std::string relmse_reason = "the reference is 0 over the receivers (a reason for the test)";
+  json best = json::parse(read_text(folder / "runs" / "pm_1e6" / "record.json"));  // the best relmse, 0.005
+  best["metrics"].erase("relmse");
+  best["metrics_undefined"] = {{"relmse", relmse_reason}};
+  write_json(folder / "runs" / "pm_1e6" / "record.json", best);
+  json empty = json::parse(read_text(folder / "runs" / "pin_400" / "record.json"));  // its metrics stay stored
+  empty["empty_reference"] = {{"frames", {0}}, {"reason", "E_c summed over its 9 receiver pixels is 0 W/m^2"}};
+  write_json(folder / "runs" / "pin_400" / "record.json", empty);
+  const std::string empty_reason = "empty reference: E_c summed over its 9 receiver pixels is 0 W/m^2";
+
+  ReportSummary summary = write_report(folder.string());
+  std::string md = read_text(summary.markdown);
+  EXPECT_NE(md.find("| photon_map | photon_map k=50 photons=1000000 | k=50, photons=1000000 | \u2014 [1] |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("- [1] undefined: " + relmse_reason + "\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("| pinhole | pinhole samples=400 (empty reference) | samples=400 | \u2014 [2] | \u2014 [2] | "
+                    "\u2014 [2] | \u2014 [2] |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("- [2] undefined: " + empty_reason + "\n"), std::string::npos) << md;
+  EXPECT_EQ(md.find("| **0.005** |"), std::string::npos) << "an undefined value is never best";
+  EXPECT_NE(md.find("| **0.01235** |"), std::string::npos) << "the best defined value is";
+  EXPECT_NE(md.find("Best relmse: **photon_map k=50 photons=100000** (relmse 0.01235, 12 ms)."), std::string::npos);
+  EXPECT_NE(md.find("1 run against an empty reference"), std::string::npos) << md;
+  EXPECT_NE(md.find("| relmse undefined \u00b7 40 ms |"), std::string::npos) << "the image caption says so";
+  EXPECT_NE(md.find("| empty reference \u00b7 30 ms |"), std::string::npos);
+
+  json results = json::parse(read_text(summary.json));
+  EXPECT_EQ(results["pareto_front"]["overall"], json({"pm_1e4", "pin_100", "pm_1e5"}));
+  EXPECT_EQ(results["pareto_front"]["per_method"]["photon_map"], json({"pm_1e4", "pm_1e5"}));
+  const json& claims = results["claims"];
+  // best relmse among photon_map: pm_1e6 does not count; pm_1e5 (k=50) still beats pm_1e5_k10.
+  EXPECT_EQ(claims[0]["verdict"], "confirmed");
+  EXPECT_EQ(claims[0]["details"]["best"]["key"], "pm_1e5");
+  EXPECT_EQ(claims[0]["details"]["runs"], 3);
+  EXPECT_EQ(claims[0]["details"]["undefined_runs"], 1);
+  EXPECT_NE(claims[0]["evidence"].get<std::string>().find("(1 run with an undefined value not counted)"),
+            std::string::npos)
+      << claims[0]["evidence"];
+  // best psnr among pinhole, expect samples=400: the only such run is against an empty reference.
+  EXPECT_EQ(claims[1]["verdict"], "not measured");
+  const std::string both_not_counted = "(1 failed run and 1 run with an undefined value not counted)";
+  EXPECT_NE(claims[1]["evidence"].get<std::string>().find(both_not_counted), std::string::npos) << claims[1]["evidence"];
+  // Timings of a run against an empty reference still count.
+  EXPECT_EQ(claims[2]["verdict"], "confirmed");
+  EXPECT_EQ(claims[2]["details"]["than_runs"], 2);
+  // The trade-off plot has no point of either run.
+  std::string page = read_text(summary.html);
+  std::string tradeoff = page.substr(page.find("[\"plot-tradeoff\""), 20000);
+  EXPECT_EQ(tradeoff.find("\"key\":\"pm_1e6\""), std::string::npos);
+  EXPECT_EQ(tradeoff.find("\"key\":\"pin_400\""), std::string::npos);
+
+  // HTML: no value in the cell, the reason on hover and as a numbered note.
+  EXPECT_NE(page.find("<td class=\"num undefined\" title=\"undefined: " + relmse_reason + "\"><sup>1</sup></td>"),
+            std::string::npos);
+  EXPECT_NE(page.find("<li>undefined: " + empty_reason + "</li>"), std::string::npos);
+
+  // CSV: empty metric cells, and the reasons in metrics_undefined.
+  std::vector<std::string> lines = split(read_text(summary.csv), '\n');
+  std::vector<std::string> header = csv_cells(lines[0]);
+  auto column = [&](const std::string& name) {
+    return static_cast<size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  ASSERT_LT(column("metrics_undefined"), header.size());
+  for (size_t row = 1; row < lines.size(); ++row) {
+    std::vector<std::string> cells = csv_cells(lines[row]);
+    if (cells[column("key")] == "pm_1e6") {
+      EXPECT_EQ(cells[column("relmse")], "");
+      EXPECT_EQ(cells[column("metrics_undefined")], "relmse: " + relmse_reason);
+      EXPECT_NE(cells[column("rmse")], "");
+    } else if (cells[column("key")] == "pin_400") {
+      for (const char* metric : {"relmse", "rmse", "psnr", "energy_ratio"})
+        EXPECT_EQ(cells[column(metric)], "") << metric;
+      EXPECT_NE(cells[column("metrics_undefined")].find("psnr: " + empty_reason), std::string::npos);
+      EXPECT_NE(cells[column("frame_ms_median")], "");
+    } else {
+      EXPECT_EQ(cells[column("metrics_undefined")], "") << lines[row];
+    }
+  }
+}
+
 TEST_F(ReportTest, CopesWithoutReferenceAndWithoutFinishedRuns) {
   fs::remove_all(root / "results" / "references");
   ReportSummary summary = write_report(folder.string());

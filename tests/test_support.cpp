@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdio>
+#include <fstream>
 
 #include <sys/wait.h>
 
@@ -32,6 +33,24 @@ FrameResult render(const Scene& scene, const std::string& method, const std::vec
   CheckedRequest checked = check_request(request);
   return run_frame(request, checked);
 }
+
+TemporaryFolder::TemporaryFolder(const std::string& name)
+    : path_(std::filesystem::temp_directory_path() / ("causticbench_" + name)) {
+  std::filesystem::remove_all(path_);
+  std::filesystem::create_directories(path_);
+}
+
+TemporaryFolder::~TemporaryFolder() {
+  std::error_code ignored;
+  std::filesystem::remove_all(path_, ignored);
+}
+
+std::string TemporaryFolder::write(const std::string& name, const std::string& text) const {
+  std::ofstream(path_ / name) << text;
+  return (path_ / name).string();
+}
+
+std::string TemporaryFolder::path(const std::string& name) const { return (path_ / name).string(); }
 
 std::string replace_once(std::string text, const std::string& from, const std::string& to) {
   size_t at = text.find(from);

@@ -1,6 +1,7 @@
 // Helpers shared by the tests: scenes from strings, running a method on a frame, image regions.
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <string>
 
@@ -24,6 +25,21 @@ std::string input_error_message(const std::function<void()>& action);
 
 // Runs a shell command, returns its exit code and fills `output` with stdout+stderr.
 int run_command(const std::string& command, std::string& output);
+
+// A folder under the system's temporary folder, emptied when made and removed when destroyed.
+class TemporaryFolder {
+ public:
+  explicit TemporaryFolder(const std::string& name);
+  ~TemporaryFolder();
+  TemporaryFolder(const TemporaryFolder&) = delete;
+  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
+  // Writes `text` to the file `name` in the folder; returns its path.
+  std::string write(const std::string& name, const std::string& text) const;
+  std::string path(const std::string& name = "") const;
+
+ private:
+  std::filesystem::path path_;
+};
 
 // Mean of channel 0 over receiver pixels whose position satisfies `inside`.
 template <typename Predicate>

@@ -1,8 +1,12 @@
 #include "methods/photon_map/photon_map.h"
 
+#include <filesystem>
+#include <fstream>
+
 #include <nanoflann.hpp>
 
 #include "core/parallel.h"
+#include "core/scene_description.h"
 
 namespace causticbench {
 
@@ -30,7 +34,7 @@ const MethodInfo& PhotonMapMethod::static_info() {
     MethodInfo m;
     m.name = "photon_map";
     m.paper = "H. W. Jensen, \"Global Illumination Using Photon Maps\", EGWR 1996 (caustic photon map, cone filter)";
-    m.summary = "Traces a fixed number of caustic photons per frame into a kd-tree (nanoflann) and estimates "
+    m.summary = "Traces a fixed number of caustic photons (every frame; once, cached, for a static scene) into a kd-tree (nanoflann) and estimates "
                 "irradiance from the k nearest photons with a cone filter.";
     m.params = {
         ParamSpec::integer("photons", 200000, 1, 1e9, "caustic photons emitted per frame", ParamPhase::build),
@@ -44,23 +48,93 @@ const MethodInfo& PhotonMapMethod::static_info() {
     c.reflection = c.refraction = c.multiple_bounces = true;
     c.directional_light = c.point_light = c.environment_light = true;
     c.moving_light = c.moving_objects = c.occlusion = c.non_lambertian_receivers = true;
-    c.notes = {{"moving_light", "photons are retraced every frame"}};
+    c.notes = {{"moving_light", "photons are retraced every frame"},
+               {"moving_objects", "photons are retraced every frame; a static scene's are traced once and cached"}};
+    m.quick_knobs = {"photons=20000"};
     return m;
   }();
   return info;
 }
 
-void PhotonMapMethod::prepare(const Scene& scene, const ParamSet& build) { build_ = build; }
-
-void PhotonMapMethod::update(const FrameContext& frame) {
+void PhotonMapMethod::prepare(const PrepareContext& context, const ParamSet& build) {
+  build_ = build;
   photons_.clear();
   stats_ = PhotonStats{};
-  CausticPhotonTracer tracer(frame.tracer, PhotonTracerSettings{static_cast<uint64_t>(build_.integer("seed"))});
-  tracer.trace(0, static_cast<uint64_t>(build_.integer("photons")), photons_, stats_);
+  index_.reset();
+  static_scene_ = scene_is_static(context.scene);
+  if (static_scene_) trace(context.tracer);
+}
+
+void PhotonMapMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
+  if (!static_scene_) trace(frame.tracer);
+}
+
+void PhotonMapMethod::trace(const Tracer& tracer) {
+  photons_.clear();
+  stats_ = PhotonStats{};
+  CausticPhotonTracer photon_tracer(tracer, PhotonTracerSettings{static_cast<uint64_t>(build_.integer("seed"))});
+  photon_tracer.trace(0, static_cast<uint64_t>(build_.integer("photons")), photons_, stats_);
+  build_index();
+}
+
+void PhotonMapMethod::build_index() {
   index_ = std::make_unique<Index>();
   index_->cloud.photons = &photons_;
   index_->tree = std::make_unique<PhotonTree>(3, index_->cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
   index_->tree->buildIndex();
+}
+
+// A static scene's photons depend on everything that shapes a photon path (every object, every light)
+// and on the build knobs; not on the camera.
+std::optional<nlohmann::json> PhotonMapMethod::build_dependencies(const PrepareContext& context,
+                                                                  const ParamSet& build) const {
+  if (!scene_is_static(context.scene)) return std::nullopt;
+  return nlohmann::json{{"scene", scene_content_json(context.scene)}, {"build", build.to_json()}};
+}
+
+// photons.bin: the photons and their statistics; kdtree.bin: nanoflann's index over them (building it
+// costs more than tracing the photons, so it is part of the build). The build cache checks both files'
+// checksums before load_build() reads them (nanoflann trusts its input).
+void PhotonMapMethod::save_build(const std::string& folder) const {
+  std::ofstream stream(std::filesystem::path(folder) / "photons.bin", std::ios::binary);
+  const uint64_t header[4] = {photons_.size(), stats_.emitted, stats_.deposited, stats_.rays};
+  stream.write(reinterpret_cast<const char*>(header), sizeof(header));
+  stream.write(reinterpret_cast<const char*>(photons_.data()), static_cast<std::streamsize>(photons_.size() * sizeof(Photon)));
+  if (!stream) throw std::runtime_error(folder + "/photons.bin: write failed");
+  if (photons_.empty()) return;  // no caustic photon (nothing in view or nothing aimed at): no tree to store
+  std::ofstream tree(std::filesystem::path(folder) / "kdtree.bin", std::ios::binary);
+  index_->tree->saveIndex(tree);
+  if (!tree) throw std::runtime_error(folder + "/kdtree.bin: write failed");
+}
+
+void PhotonMapMethod::load_build(const PrepareContext& context, const ParamSet& build, const std::string& folder) {
+  build_ = build;
+  static_scene_ = true;
+  std::string path = (std::filesystem::path(folder) / "photons.bin").string();
+  std::ifstream stream(path, std::ios::binary);
+  uint64_t header[4] = {};
+  stream.read(reinterpret_cast<char*>(header), sizeof(header));
+  if (!stream || std::filesystem::file_size(path) != sizeof(header) + header[0] * sizeof(Photon)) {
+    throw std::runtime_error(path + ": truncated or not a photon file");
+  }
+  photons_.resize(header[0]);
+  stream.read(reinterpret_cast<char*>(photons_.data()), static_cast<std::streamsize>(photons_.size() * sizeof(Photon)));
+  stats_ = PhotonStats{header[1], header[2], header[3]};
+  if (photons_.empty()) {
+    index_.reset();  // render() returns zeros without looking at the index
+    return;
+  }
+  std::ifstream tree(std::filesystem::path(folder) / "kdtree.bin", std::ios::binary);
+  if (!tree) throw std::runtime_error(folder + "/kdtree.bin: not found");
+  index_ = std::make_unique<Index>();
+  index_->cloud.photons = &photons_;
+  index_->tree = std::make_unique<PhotonTree>(3, index_->cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  index_->tree->loadIndex(tree);
+  if (!tree) throw std::runtime_error(folder + "/kdtree.bin: truncated");
+}
+
+nlohmann::json PhotonMapMethod::record() const {
+  return {{"photons_traced", static_scene_ ? "once, in prepare (static scene)" : "every frame, in update"}};
 }
 
 Image PhotonMapMethod::render(const GBuffer& gbuffer, const ParamSet& params) {

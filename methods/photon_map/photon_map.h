@@ -17,18 +17,28 @@ class PhotonMapMethod : public CausticMethod {
   ~PhotonMapMethod() override;
   static const MethodInfo& static_info();
   const MethodInfo& info() const override { return static_info(); }
-  void prepare(const Scene& scene, const ParamSet& build) override;
-  void update(const FrameContext& frame) override;
+  void prepare(const PrepareContext& context, const ParamSet& build) override;
+  void update(const FrameContext& frame, const ParamSet& frame_knobs) override;
   Image render(const GBuffer& gbuffer, const ParamSet& render) override;
   size_t memory_bytes() const override;
   Counters counters() const override;
+  nlohmann::json record() const override;
+  std::optional<nlohmann::json> build_dependencies(const PrepareContext& context, const ParamSet& build) const override;
+  void save_build(const std::string& folder) const override;
+  void load_build(const PrepareContext& context, const ParamSet& build, const std::string& folder) override;
 
  private:
   struct Index;
   ParamSet build_;
+  // Neither the lights nor the objects move: the photons are traced once, in prepare(), and are the
+  // method's build (the baked caustic photon map of a static scene); otherwise every frame in update().
+  bool static_scene_ = false;
   std::vector<Photon> photons_;
   PhotonStats stats_;
   std::unique_ptr<Index> index_;
+
+  void trace(const Tracer& tracer);
+  void build_index();
 };
 
 }  // namespace causticbench

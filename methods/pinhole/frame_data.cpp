@@ -1,43 +1,11 @@
 #include "methods/pinhole/frame_data.h"
 
-#include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 
 namespace causticbench {
-
-namespace {
-
-// Written under a temporary name and renamed, so that a reader sees the whole file or none of it.
-void write_bytes(const std::string& path, const char* data, size_t bytes) {
-  std::string temporary = path + ".partial";
-  {
-    std::ofstream stream(temporary, std::ios::binary | std::ios::trunc);
-    if (!stream) throw std::runtime_error(path + ": cannot write");
-    stream.write(data, static_cast<std::streamsize>(bytes));
-    if (!stream) throw std::runtime_error(path + ": write failed");
-  }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) throw std::runtime_error(path + ": cannot rename");
-}
-
-}  // namespace
-
-void write_floats(const std::string& path, const std::vector<float>& values) {
-  write_bytes(path, reinterpret_cast<const char*>(values.data()), values.size() * sizeof(float));
-}
-
-std::vector<float> read_floats(const std::string& path) {
-  std::ifstream stream(path, std::ios::binary | std::ios::ate);
-  if (!stream) throw std::runtime_error(path + ": cannot open");
-  std::streamsize bytes = stream.tellg();
-  if (bytes % static_cast<std::streamsize>(sizeof(float)) != 0) throw std::runtime_error(path + ": not a float32 array");
-  std::vector<float> values(static_cast<size_t>(bytes) / sizeof(float));
-  stream.seekg(0);
-  stream.read(reinterpret_cast<char*>(values.data()), bytes);
-  return values;
-}
 
 void write_frame_data(const PinholeFrameData& frame, const std::string& folder) {
   write_floats(folder + "/receiver_positions.bin", frame.receiver_positions);
@@ -53,8 +21,8 @@ void write_frame_data(const PinholeFrameData& frame, const std::string& folder) 
        << frame.epsilon << "\narea " << frame.area << "\nattenuation " << frame.attenuation << "\nfresnel "
        << frame.fresnel << "\nrefraction " << frame.refraction << "\nfiltering " << frame.filtering
        << "\nfootprint_radius " << frame.footprint_radius << "\n";
-  // Last: its presence marks a complete dump.
-  write_bytes(folder + "/frame.txt", text.str().data(), text.str().size());
+  // Last: its presence marks a complete frame.
+  write_dump_bytes(folder + "/frame.txt", text.str().data(), text.str().size());
 }
 
 PinholeFrameData read_frame_data(const std::string& folder) {

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "methods/frame_dump.h"  // method.txt and the float32 arrays of every dump folder
+
 namespace causticbench {
 
 struct PinholeFrameData {
@@ -31,11 +33,10 @@ struct PinholeFrameData {
   uint32_t sample_count() const { return static_cast<uint32_t>(sample_positions.size() / 4); }
 };
 
-// The folder holds frame.txt (the scalars, one `name value` a line) and one little-endian float32 .bin
-// file per array. Throws std::runtime_error naming the file on any defect.
+// The folder holds frame.txt (the scalars, one `name value` a line, written last: its presence marks a
+// complete frame) and one float32 .bin file per array (write_floats). Throws std::runtime_error naming
+// the file on any defect. method.txt is the caller's (write_dump_method).
 void write_frame_data(const PinholeFrameData& frame, const std::string& folder);
 PinholeFrameData read_frame_data(const std::string& folder);
-void write_floats(const std::string& path, const std::vector<float>& values);
-std::vector<float> read_floats(const std::string& path);
 
 }  // namespace causticbench

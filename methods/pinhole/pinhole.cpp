@@ -21,17 +21,17 @@ const MethodInfo& PinholeMethod::static_info() {
     m.paper = "M. Wand, W. Strasser, \"Real-Time Caustics\", Computer Graphics Forum 22(3), 2003";
     m.summary = "Samples the reflector every frame; each sample projects the light's environment map onto the "
                 "receivers like a pinhole camera, optionally with curvature-based anisotropic filtering.";
-    const ParamPhase build = ParamPhase::build, render = ParamPhase::render;
+    const ParamPhase build = ParamPhase::build, frame = ParamPhase::frame, render = ParamPhase::render;
     m.params = {
-        ParamSpec::integer("samples", 1000, 1, 1e7, "target number of reflector samples (pinhole cameras) per frame", build),
+        ParamSpec::integer("samples", 1000, 1, 1e7, "target number of reflector samples (pinhole cameras) per frame", frame),
         ParamSpec::choice("sampling", "neighborhood", {"random", "grid", "quantized_grid", "neighborhood"},
-                          "stratification of the samples (Section 3.2)", build),
+                          "stratification of the samples (Section 3.2)", frame),
         ParamSpec::choice("filtering", "none", {"none", "isotropic", "anisotropic"},
                           "resampling filter of the light lookups from differential point samples (Section 3.3)", build),
         ParamSpec::choice("interaction", "reflect", {"reflect", "refract"},
                           "one mirror reflection, or one refraction (the variant Section 5 names)", build),
-        ParamSpec::integer("environment_resolution", 256, 4, 4096, "cube map face size of the light map (paper: 256)", build),
-        ParamSpec::integer("seed", 1, 0, 4e9, "seed of the reflector sampling", build),
+        ParamSpec::integer("environment_resolution", 256, 4, 4096, "cube map face size of the light map (paper: 256)", frame),
+        ParamSpec::integer("seed", 1, 0, 4e9, "seed of the reflector sampling", frame),
         ParamSpec::choice("backend", "cpu", {"cpu", "vulkan"},
                           "cpu (multithreaded, SIMD, OpenImageIO filtering) or vulkan (compute shader, textureGrad on a mip-mapped cube map; lavapipe without a GPU)", build),
         ParamSpec::real("epsilon", -1.0, -1.0, 1e6,
@@ -43,15 +43,24 @@ const MethodInfo& PinholeMethod::static_info() {
     c.reflection = true;
     c.refraction = true;
     c.multiple_bounces = false;
-    c.directional_light = c.point_light = c.environment_light = true;
+    c.directional_light = c.environment_light = true;
+    // Measured in tests/test_capabilities.cpp: a point light near the reflector, taken as distant from its
+    // centre, lights parts of it the light cannot reach (energy 3.4x the reference's there).
+    c.point_light = false;
     c.moving_light = c.moving_objects = true;
     c.occlusion = false;
-    c.non_lambertian_receivers = false;
+    // E_c is irradiance, which does not depend on the receiver's BRDF (measured equal on a glossy floor).
+    c.non_lambertian_receivers = true;
     c.notes = {{"refraction", "a single refraction (interaction: refract), e.g. a water surface over a pool floor"},
-               {"point_light", "approximated as distant from the reflectors' centre, as the paper does"},
+               {"point_light", "approximated as distant from the reflectors' centre, as the paper does: right for a light "
+                               "far from the reflector, measurably wrong for one near it (Liu 2008 Table 1 agrees)"},
+               {"non_lambertian_receivers", "E_c is irradiance, independent of the receiver's BRDF; each sample's "
+                                            "light direction is known, so a glossy BRDF could be shaded (Liu 2008 "
+                                            "Table 1 marks pinhole so)"},
                {"occlusion", "no visibility between reflector samples and receivers beyond back-face culling"},
                {"multiple_bounces", "one specular interaction only"}};
     m.frame_dump = true;
+    m.quick_knobs = {"samples=64", "environment_resolution=32"};
     return m;
   }();
   return info;
@@ -81,7 +90,8 @@ void PinholeMethod::check_scene(const Scene& scene) const {
   }
 }
 
-void PinholeMethod::prepare(const Scene& scene, const ParamSet& build) {
+void PinholeMethod::prepare(const PrepareContext& context, const ParamSet& build) {
+  const Scene& scene = context.scene;
   reflectors_ = pinhole_reflectors(scene, build.text("interaction"));
   if (reflectors_.empty()) {
     throw InputError(fmt::format("{}: pinhole with interaction '{}' needs at least one {} object", scene.source,
@@ -111,9 +121,10 @@ void PinholeMethod::prepare(const Scene& scene, const ParamSet& build) {
   }
 }
 
-void PinholeMethod::update(const FrameContext& context) {
-  samples_ = sample_reflectors(context.frame, reflectors_, static_cast<size_t>(build_.integer("samples")),
-                               parse_sampling_strategy(build_.text("sampling")), static_cast<uint64_t>(build_.integer("seed")));
+void PinholeMethod::update(const FrameContext& context, const ParamSet& knobs) {
+  samples_ = sample_reflectors(context.frame, reflectors_, static_cast<size_t>(knobs.integer("samples")),
+                               parse_sampling_strategy(knobs.text("sampling")), static_cast<uint64_t>(knobs.integer("seed")));
+  const int resolution = static_cast<int>(knobs.integer("environment_resolution"));
   sample_materials_.clear();
   for (const ReflectorSample& sample : samples_.samples) sample_materials_.push_back(&scene_->objects[sample.object].material);
   // The light is distant from the reflectors' centre (the area-weighted mean of their samples).
@@ -123,9 +134,10 @@ void PinholeMethod::update(const FrameContext& context) {
   DistantLights lights(context.frame, center);
   // The map depends only on the lights as seen from the reflectors: rebuilt when they change (a moving
   // light or reflector), reused otherwise, as a renderer would keep a static environment map.
-  bool lights_changed = !cube_map_lights_ || !(*cube_map_lights_ == lights);
+  // (A new map resolution, a frame knob, also rebuilds it.)
+  bool lights_changed = !cube_map_lights_ || !(*cube_map_lights_ == lights) || cube_map_.resolution() != resolution;
   if (lights_changed) {
-    cube_map_ = LightCubeMap(lights, static_cast<int>(build_.integer("environment_resolution")));
+    cube_map_ = LightCubeMap(lights, resolution);
     cube_map_lights_ = std::make_unique<DistantLights>(lights);
   }
   // The flat arrays the Vulkan backend and --dump-frame use; the cube map is copied when it changes.
@@ -165,7 +177,7 @@ void PinholeMethod::update(const FrameContext& context) {
       }
     }
     if (!vulkan_ && (lights_changed || !filtered_map_)) {
-      filtered_map_ = std::make_unique<FilteredLightMap>(lights, static_cast<int>(build_.integer("environment_resolution")) * 2);
+      filtered_map_ = std::make_unique<FilteredLightMap>(lights, resolution * 2);
     }
   }
   if (vulkan_) {
@@ -507,6 +519,8 @@ void PinholeMethod::dump_frame(const GBuffer& gbuffer, const ParamSet& params, c
                                const std::string& folder) const {
   PinholeFrameData frame = frame_data_;
   fill_receivers(gbuffer, params, frame);
+  // First, so that a folder that held another method's dump names pinhole before pinhole's files land.
+  write_dump_method(folder, "pinhole");
   write_frame_data(frame, folder);
   std::vector<float> rgba(gbuffer.pixel_count() * 4, 0.0f);
   for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
@@ -518,7 +532,6 @@ void PinholeMethod::dump_frame(const GBuffer& gbuffer, const ParamSet& params, c
 nlohmann::json PinholeMethod::record() const {
   return {{"backend", build_.text("backend")},
           {"gpu_device", gpu_context_ ? gpu_context_->device_name() : ""},
-          {"gpu_render_ms", gpu_render_ms_},
           {"gpu_sampler_warning", sampler_note_},
           {"samples", samples_.samples.size()},
           {"reflector_area", samples_.total_area},

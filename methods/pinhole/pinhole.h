@@ -19,12 +19,15 @@ class PinholeMethod : public CausticMethod {
   static const MethodInfo& static_info();
   const MethodInfo& info() const override { return static_info(); }
   void check_scene(const Scene& scene) const override;
-  void prepare(const Scene& scene, const ParamSet& build) override;
-  void update(const FrameContext& frame) override;
+  void prepare(const PrepareContext& context, const ParamSet& build) override;
+  void update(const FrameContext& frame, const ParamSet& frame_knobs) override;
   Image render(const GBuffer& gbuffer, const ParamSet& render) override;
   size_t memory_bytes() const override;
   Counters counters() const override;
   nlohmann::json record() const override;
+  std::optional<double> gpu_render_milliseconds() const override {
+    return vulkan_ ? std::optional<double>(gpu_render_ms_) : std::nullopt;
+  }
   void dump_frame(const GBuffer& gbuffer, const ParamSet& render, const Image& output,
                   const std::string& folder) const override;
 

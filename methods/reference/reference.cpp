@@ -102,6 +102,7 @@ const MethodInfo& ReferenceMethod::static_info() {
     c.directional_light = c.point_light = c.environment_light = true;
     c.moving_light = c.moving_objects = c.occlusion = c.non_lambertian_receivers = true;
     c.notes = {{"non_lambertian_receivers", "E_c is irradiance, independent of the receiver's BRDF"}};
+    m.quick_knobs = {"photons_per_pass=20000", "max_passes=2", "target_noise_floor=0", "max_seconds=0"};
     return m;
   }();
   return info;
@@ -109,9 +110,9 @@ const MethodInfo& ReferenceMethod::static_info() {
 
 void ReferenceMethod::check_scene(const Scene& scene) const {}
 
-void ReferenceMethod::prepare(const Scene& scene, const ParamSet& build) {}
+void ReferenceMethod::prepare(const PrepareContext& context, const ParamSet& build) {}
 
-void ReferenceMethod::update(const FrameContext& frame) { tracer_ = &frame.tracer; }
+void ReferenceMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) { tracer_ = &frame.tracer; }
 
 Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   auto start = std::chrono::steady_clock::now();

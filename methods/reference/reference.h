@@ -14,8 +14,8 @@ class ReferenceMethod : public CausticMethod {
   static const MethodInfo& static_info();
   const MethodInfo& info() const override { return static_info(); }
   void check_scene(const Scene& scene) const override;
-  void prepare(const Scene& scene, const ParamSet& build) override;
-  void update(const FrameContext& frame) override;
+  void prepare(const PrepareContext& context, const ParamSet& build) override;
+  void update(const FrameContext& frame, const ParamSet& frame_knobs) override;
   Image render(const GBuffer& gbuffer, const ParamSet& render) override;
   size_t memory_bytes() const override { return memory_bytes_; }
   Counters counters() const override;

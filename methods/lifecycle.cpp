@@ -1,0 +1,131 @@
+#include "methods/lifecycle.h"
+
+#include <chrono>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "core/files.h"
+#include "core/staging_folder.h"
+#include "methods/build_cache.h"
+
+namespace causticbench {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+}  // namespace
+
+PosedFrame::PosedFrame(const Scene& scene, int index_in)
+    : index(index_in), frame(scene, index_in), tracer(frame), gbuffer(render_gbuffer(tracer)) {}
+
+RestPose::RestPose(const Scene& scene, std::vector<int> frames_in) : frame(scene, 0), tracer(frame), frames(std::move(frames_in)) {}
+
+PrepareOutcome prepare_method(CausticMethod& method, const PrepareContext& context, const ParamSet& build,
+                              const std::string& build_cache) {
+  PrepareOutcome outcome;
+  method.check_scene(context.scene);
+  std::optional<nlohmann::json> dependencies;
+  if (!build_cache.empty()) dependencies = method.build_dependencies(context, build);
+  if (!dependencies) {
+    auto start = Clock::now();
+    method.prepare(context, build);
+    outcome.prepare_seconds = seconds_since(start);
+    return outcome;
+  }
+  const std::string& name = method.info().name;
+  outcome.build_key = build_cache_key(name, *dependencies);
+  fs::create_directories(build_cache);
+  remove_stale_staging(build_cache);
+  if (std::optional<StoredBuild> stored = find_stored_build(build_cache, outcome.build_key, name, *dependencies)) {
+    std::string problem = stored->problem;
+    if (problem.empty()) {
+      try {
+        auto start = Clock::now();
+        method.load_build(context, build, stored->folder);
+        outcome.load_seconds = seconds_since(start);
+        outcome.prepare_seconds = stored->record["prepare_seconds"].get<double>();
+        outcome.source = "loaded";
+        return outcome;
+      } catch (const std::runtime_error& error) {
+        problem = error.what();
+      }
+    }
+    outcome.warning = fmt::format("build {} of {} in {} cannot be used ({}); recomputing it", outcome.build_key, name,
+                                  stored->folder, problem);
+    fmt::print(stderr, "warning: {}\n", outcome.warning);
+    outcome.source = "recomputed";
+  }
+  auto start = Clock::now();
+  method.prepare(context, build);
+  outcome.prepare_seconds = seconds_since(start);
+  start = Clock::now();
+  fs::path final_folder = fs::path(build_cache) / outcome.build_key;
+  StagingFolder staging(final_folder.string());
+  method.save_build(staging.path());
+  nlohmann::json record = {{"method", name},
+                           {"version", kBuildCacheVersion},
+                           {"key", outcome.build_key},
+                           {"dependencies", *dependencies},
+                           {"build", build.to_json()},
+                           {"files", build_file_checksums(staging.path())},
+                           {"prepare_seconds", outcome.prepare_seconds}};
+  // build.json last: a folder without it is incomplete and never read.
+  write_text_atomically((fs::path(staging.path()) / "build.json").string(), record.dump(2) + "\n");
+  if (outcome.source == "recomputed") {
+    staging.commit();  // replaces the unreadable one
+  } else if (!staging.commit_if_absent()) {
+    // Another process stored the same build while we computed it; ours is identical in content
+    // (same dependencies), so theirs serves: nothing to do.
+  }
+  outcome.save_seconds = seconds_since(start);
+  return outcome;
+}
+
+std::vector<SequenceOutput> play_sequence(CausticMethod& method, const std::vector<const PosedFrame*>& frames,
+                                          const ParamSet& frame_knobs, const std::vector<ParamSet>& render_sets,
+                                          const TimingProtocol& protocol) {
+  std::vector<SequenceOutput> outputs(render_sets.size());
+  for (SequenceOutput& output : outputs) {
+    output.images.resize(frames.size());
+    for (size_t f = 0; f < frames.size(); ++f) output.timings.push_back(FrameTimings{frames[f]->index, {}, {}, {}});
+  }
+  const int passes = (protocol.warm_up ? 1 : 0) + std::max(1, protocol.repetitions);
+  for (int pass = 0; pass < passes; ++pass) {
+    const bool timed = !protocol.warm_up || pass > 0;
+    for (size_t f = 0; f < frames.size(); ++f) {
+      const PosedFrame& posed = *frames[f];
+      auto start = Clock::now();
+      method.update(posed.context(), frame_knobs);
+      double update_ms = seconds_since(start) * 1e3;
+      for (size_t r = 0; r < render_sets.size(); ++r) {
+        start = Clock::now();
+        Image image = method.render(posed.gbuffer, render_sets[r]);
+        double render_ms = seconds_since(start) * 1e3;
+        std::optional<double> gpu_ms = method.gpu_render_milliseconds();
+        if (timed) {
+          FrameTimings& timings = outputs[r].timings[f];
+          timings.update_ms.push_back(update_ms);
+          timings.render_ms.push_back(render_ms);
+          if (gpu_ms) timings.gpu_render_ms.push_back(*gpu_ms);
+        }
+        if (pass == passes - 1) {
+          posed.gbuffer.clear_outside_receivers(image);
+          outputs[r].images[f] = std::move(image);
+        }
+      }
+    }
+  }
+  return outputs;
+}
+
+PhaseKnobs split_phases(const ParamSet& all, const std::vector<ParamSpec>& specs) {
+  return PhaseKnobs{select_phase(all, specs, ParamPhase::build), select_phase(all, specs, ParamPhase::frame),
+                    select_phase(all, specs, ParamPhase::render)};
+}
+
+}  // namespace causticbench

@@ -1,0 +1,90 @@
+// The one driver of a method's life: check, prepare (or load the build from the cache), then play
+// the frame sequence as an animation, update() and render() per frame. `causticbench render`, the
+// experiment runner (its reference included) and the tests all go through it, so a phase is timed
+// the same way everywhere.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/gbuffer.h"
+#include "core/tracer.h"
+#include "methods/method.h"
+
+namespace causticbench {
+
+// A frame posed once: the scene at one frame index, a tracer over it and its G-buffer. Methods take
+// it by const reference, so the reference and every run of a variant share it.
+struct PosedFrame {
+  int index = 0;
+  SceneFrame frame;
+  Tracer tracer;
+  GBuffer gbuffer;
+  PosedFrame(const Scene& scene, int index);
+  FrameContext context() const { return FrameContext{frame, tracer}; }
+};
+
+// The scene's rest pose (frame 0) with a tracer over it, and the frames to be rendered: what
+// prepare() gets.
+struct RestPose {
+  SceneFrame frame;
+  Tracer tracer;
+  std::vector<int> frames;
+  RestPose(const Scene& scene, std::vector<int> frames);
+  PrepareContext context() const { return PrepareContext{*frame.scene, frame, tracer, frames}; }
+};
+
+// How a build came to be.
+struct PrepareOutcome {
+  std::string source = "computed";  // computed, loaded (from the build cache), or recomputed (the stored one was unreadable)
+  std::string build_key;            // empty when the method's build is not cacheable here
+  double prepare_seconds = 0.0;     // the time prepare() took; for a loaded build, as stored when it was computed
+  double load_seconds = 0.0;        // reading a cached build (loaded builds)
+  double save_seconds = 0.0;        // writing it to the cache (computed, cacheable builds)
+  std::string warning;              // why a stored build was recomputed
+};
+
+// check_scene(), then prepare(): when `build_cache` names a folder (results/builds) and the method
+// declares build_dependencies() for this scene and these knobs, its build is loaded from
+// <build_cache>/<key>/ if stored and computed and stored otherwise (methods/build_cache.h).
+PrepareOutcome prepare_method(CausticMethod& method, const PrepareContext& context, const ParamSet& build,
+                              const std::string& build_cache = "");
+
+// Timing protocol: `warm_up` plays the whole sequence once untimed; then `repetitions` timed passes
+// each play it frame after frame, as an animation would (so a new light direction every frame costs
+// what it costs, and only a static frame sequence finds per-frame caches warm).
+struct TimingProtocol {
+  bool warm_up = true;
+  int repetitions = 1;
+};
+
+// Per frame of the sequence, the timings of every timed pass.
+struct FrameTimings {
+  int frame = 0;
+  std::vector<double> update_ms;
+  std::vector<double> render_ms;
+  std::vector<double> gpu_render_ms;  // GPU backends: kernel time from timestamp queries
+};
+
+// One render knob set's output over the sequence.
+struct SequenceOutput {
+  std::vector<Image> images;          // per frame, from the last pass, zero outside the receivers
+  std::vector<FrameTimings> timings;  // per frame
+};
+
+// Plays `frames` on a prepared method with one set of frame knobs. For each frame, update() runs
+// once and render() once per render knob set: runs that differ only in render knobs share update()
+// (its times are theirs alike). Returns one output per render knob set, in order.
+std::vector<SequenceOutput> play_sequence(CausticMethod& method, const std::vector<const PosedFrame*>& frames,
+                                          const ParamSet& frame_knobs, const std::vector<ParamSet>& render_sets,
+                                          const TimingProtocol& protocol);
+
+// The three phase subsets of a method's resolved knobs.
+struct PhaseKnobs {
+  ParamSet build, frame, render;
+};
+PhaseKnobs split_phases(const ParamSet& all, const std::vector<ParamSpec>& specs);
+
+}  // namespace causticbench
