@@ -146,6 +146,16 @@ std::string light_kind_name(LightKind kind) {
   return "unknown";
 }
 
+std::string light_direction_defect(const glm::dvec3& direction) {
+  // Written so that a NaN or an overflowing length fails the test: directions are posed in single
+  // precision, where a length beyond 1e12 or below 1e-12 loses the direction.
+  double length = glm::length(direction);
+  if (!(length >= 1e-12 && length <= 1e12)) {
+    return fmt::format("a direction of length in [1e-12, 1e12], found length {}", length);
+  }
+  return "";
+}
+
 Light read_light(const ConfigNode& node, const std::string& scene_folder) {
   Light light;
   light.name = node.string_or("name", "");
@@ -153,7 +163,11 @@ Light read_light(const ConfigNode& node, const std::string& scene_folder) {
   auto read_direction = [&]() {
     light.direction = read_vec3_track(node, "direction", nullptr);
     for (const auto& key : light.direction.keys) {
-      if (glm::length(key.second) < 1e-12) node.fail("direction", "a non-zero direction", "[0, 0, 0]");
+      std::string defect = light_direction_defect(key.second);
+      if (!defect.empty()) {
+        node.fail("direction", "a non-zero, finite direction of length in [1e-12, 1e12]",
+                  fmt::format("[{}, {}, {}]", key.second.x, key.second.y, key.second.z));
+      }
     }
   };
   if (type == "directional") {

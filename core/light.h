@@ -76,6 +76,9 @@ struct LightFrame {
 };
 
 LightFrame pose_light(const Light& light, double frame);
+// Why `direction` cannot be a light's direction (zero, not finite, or so long or short that its
+// single-precision normalisation is not finite), or "" when it can.
+std::string light_direction_defect(const glm::dvec3& direction);
 Light read_light(const ConfigNode& node, const std::string& scene_folder);
 std::string light_kind_name(LightKind kind);
 

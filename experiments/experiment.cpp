@@ -190,7 +190,10 @@ nlohmann::json read_overrides(const ConfigNode& node, Scene& scene) {
     out["index"] = index;
     if (light_node->has("direction")) {
       glm::dvec3 d = light_node->vec3("direction");
-      if (glm::length(d) < 1e-12) light_node->fail("direction", "a non-zero direction", "[0, 0, 0]");
+      if (!light_direction_defect(d).empty()) {
+        light_node->fail("direction", "a non-zero, finite direction of length in [1e-12, 1e12]",
+                         fmt::format("[{}, {}, {}]", d.x, d.y, d.z));
+      }
       light.direction = Vec3Track::constant(d);
       out["direction"] = {d.x, d.y, d.z};
     }
