@@ -33,8 +33,9 @@ VariantFrames variant_frames(const Experiment& experiment, const SceneVariant& v
                experiment.variants.size() > 1 ? " of variant " + variant.name : "", folder.string());
     std::unique_ptr<CausticMethod> method = create_method("reference");
     const PhaseKnobs knobs = split_phases(experiment.reference_params, method->info().params);
-    if (!rest) rest = std::make_unique<RestPose>(variant.scene, experiment.frames);
-    prepare_method(*method, rest->context(), knobs.build);
+    auto zero = frames.posed.find(0);
+    const PosedFrame* frame_zero = zero == frames.posed.end() ? nullptr : zero->second.get();
+    prepare_method(*method, prepare_context(variant.scene, experiment.frames, frame_zero, rest), knobs.build);
     Image caustic =
         std::move(play_sequence(*method, {&posed}, knobs.frame, {knobs.render}, TimingProtocol{false, 1}).front().images.front());
     write_exr(caustic, image.string());

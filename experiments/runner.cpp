@@ -331,7 +331,6 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& option
       } else {
         frames = variant_frames(experiment, variant, paths);  // stored by the check: loaded, not computed
       }
-      rest = std::make_unique<RestPose>(variant.scene, experiment.frames);
     }
     auto empty = references.empty.find(first.variant);
     const std::vector<FramePresence>& empty_reference = empty == references.empty.end() ? scored : empty->second;
@@ -339,7 +338,10 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& option
     PrepareOutcome prepared;
     std::string prepare_error;
     try {
-      prepared = prepare_method(*method, rest->context(), first.build, build_cache);
+      auto zero = frames.posed.find(0);
+      const PosedFrame* frame_zero = zero == frames.posed.end() ? nullptr : zero->second.get();
+      prepared = prepare_method(*method, prepare_context(variant.scene, experiment.frames, frame_zero, rest), first.build,
+                                build_cache);
       if (!prepared.build_key.empty()) {
         fmt::print(stderr, "build {} of {}: {} ({:.3g} s to compute{})\n", prepared.build_key, first.method, prepared.source,
                    prepared.prepare_seconds,

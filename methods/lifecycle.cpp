@@ -25,6 +25,13 @@ PosedFrame::PosedFrame(const Scene& scene, int index_in)
 
 RestPose::RestPose(const Scene& scene, std::vector<int> frames_in) : frame(scene, 0), tracer(frame), frames(std::move(frames_in)) {}
 
+PrepareContext prepare_context(const Scene& scene, const std::vector<int>& frames, const PosedFrame* frame_zero,
+                               std::unique_ptr<RestPose>& rest) {
+  if (frame_zero && frame_zero->index == 0) return PrepareContext{scene, frame_zero->frame, frame_zero->tracer, frames};
+  if (!rest) rest = std::make_unique<RestPose>(scene, frames);
+  return PrepareContext{scene, rest->frame, rest->tracer, frames};
+}
+
 PrepareOutcome prepare_method(CausticMethod& method, const PrepareContext& context, const ParamSet& build,
                               const std::string& build_cache) {
   PrepareOutcome outcome;

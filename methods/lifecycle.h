@@ -36,6 +36,12 @@ struct RestPose {
   PrepareContext context() const { return PrepareContext{*frame.scene, frame, tracer, frames}; }
 };
 
+// The context prepare() gets for rendering `frames` of `scene`: frame 0's posed frame when the caller
+// has one (its tracer serves; no second Embree scene is built), otherwise a RestPose kept in `rest`.
+// `frames` must outlive the context.
+PrepareContext prepare_context(const Scene& scene, const std::vector<int>& frames, const PosedFrame* frame_zero,
+                               std::unique_ptr<RestPose>& rest);
+
 // How a build came to be.
 struct PrepareOutcome {
   std::string source = "computed";  // computed, loaded (from the build cache), or recomputed (the stored one was unreadable)

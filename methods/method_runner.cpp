@@ -39,9 +39,11 @@ FrameResult run_frame(const RenderRequest& request, const CheckedRequest& checke
   const MethodInfo& info = checked.method->info();
   std::unique_ptr<CausticMethod> method = checked.method->create();
   const PhaseKnobs knobs = split_phases(checked.params, info.params);
-  RestPose rest(*request.scene, {request.frame});
   PosedFrame posed(*request.scene, request.frame);
-  result.prepare = prepare_method(*method, rest.context(), knobs.build, request.build_cache);
+  const std::vector<int> frames = {request.frame};
+  std::unique_ptr<RestPose> rest;
+  result.prepare =
+      prepare_method(*method, prepare_context(*request.scene, frames, &posed, rest), knobs.build, request.build_cache);
   result.timings.prepare_seconds = result.prepare.prepare_seconds;
   std::vector<SequenceOutput> outputs =
       play_sequence(*method, {&posed}, knobs.frame, {knobs.render}, TimingProtocol{false, 1});

@@ -253,7 +253,9 @@ TEST_P(Conformance, SavedAndLoadedBuildRendersIdentically) {
   Scene other_glass = scene_from_yaml(testing::replace_once(kSmallGlassSphere, "ior: 1.5", "ior: 1.4"));
   RestPose other_rest(other_glass, {0});
   std::optional<nlohmann::json> other = probe->build_dependencies(other_rest.context(), phases.build);
-  if (other) EXPECT_NE(build_cache_key(info().name, *other), build_cache_key(info().name, *dependencies));
+  if (other) {
+    EXPECT_NE(build_cache_key(info().name, *other), build_cache_key(info().name, *dependencies));
+  }
   // A different value of each build knob: a different build.
   for (const ParamSpec& spec : info().params) {
     if (spec.phase != ParamPhase::build || !all.has(spec.name)) continue;
@@ -261,7 +263,9 @@ TEST_P(Conformance, SavedAndLoadedBuildRendersIdentically) {
     if (!value) continue;
     ParamSet changed = split_phases(knobs({spec.name + "=" + *value}), info().params).build;
     std::optional<nlohmann::json> changed_dependencies = probe->build_dependencies(rest.context(), changed);
-    if (changed_dependencies) EXPECT_NE(*changed_dependencies, *dependencies) << spec.name;
+    if (changed_dependencies) {
+      EXPECT_NE(*changed_dependencies, *dependencies) << spec.name;
+    }
   }
   // A damaged stored build is recomputed, with a warning, and replaced.
   std::string key = build_cache_key(info().name, *dependencies);
