@@ -1,5 +1,6 @@
 #include "core/photon_tracer.h"
 
+#include <limits>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -181,7 +182,11 @@ bool CausticPhotonTracer::emit(Random& random, Ray& ray, Color& power) const {
   return true;
 }
 
-void CausticPhotonTracer::trace_one(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats) const {
+// The one path walk of a caustic photon. `on_receiver(hit, arrival_normal, direction, power)` is called
+// where a path with at least one specular bounce meets a surface with a diffuse part;
+// `on_segment(segment)` for every straight piece travelled after the first specular bounce.
+template <class OnReceiver, class OnSegment>
+void CausticPhotonTracer::walk(uint64_t index, PhotonStats& stats, OnReceiver&& on_receiver, OnSegment&& on_segment) const {
   Random random(settings_.seed, index);
   ++stats.emitted;
   // Nothing to aim at, or no flux towards it: the photon counts as emitted and carries nothing.
@@ -196,7 +201,14 @@ void CausticPhotonTracer::trace_one(uint64_t index, std::vector<Photon>& photons
   for (int depth = 0; depth <= settings_.max_bounces; ++depth) {
     SurfaceHit hit;
     ++stats.rays;
-    if (!tracer_.intersect(ray, hit)) return;
+    bool found = tracer_.intersect(ray, hit);
+    if (specular_bounces > 0) {
+      // Inside glass (a pool floor lies under water) the power is taken at the segment's middle; an
+      // endless segment in a medium keeps the power it started with.
+      Color carried = medium && found ? power * glm::exp(-medium->absorption * (0.5f * hit.t)) : power;
+      on_segment(PathSegment{ray.origin, ray.direction, found ? hit.t : std::numeric_limits<float>::infinity(), carried});
+    }
+    if (!found) return;
     // The segment just travelled was inside a glass medium (also when it ends on a surface inside
     // it, such as a pool floor under water): Beer-Lambert absorption over its length.
     if (medium) power *= glm::exp(-medium->absorption * hit.t);
@@ -205,7 +217,7 @@ void CausticPhotonTracer::trace_one(uint64_t index, std::vector<Photon>& photons
     if (material.receives_caustics()) {
       if (specular_bounces > 0) {
         Vec3 arrival_normal = from_outside ? hit.geometric_normal : -hit.geometric_normal;
-        photons.push_back(Photon{hit.position, arrival_normal, ray.direction, power});
+        on_receiver(hit, arrival_normal, ray.direction, power);
         ++stats.deposited;
       }
       if (material.kind != MaterialKind::diffuse_mirror) return;
@@ -235,6 +247,20 @@ void CausticPhotonTracer::trace_one(uint64_t index, std::vector<Photon>& photons
     if (max_component(power) <= 0.0f) return;
     ray = tracer_.spawn(hit, next);
   }
+}
+
+void CausticPhotonTracer::trace_one(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats) const {
+  walk(
+      index, stats,
+      [&](const SurfaceHit& hit, const Vec3& arrival_normal, const Vec3& direction, const Color& power) {
+        photons.push_back(Photon{hit.position, arrival_normal, direction, power});
+      },
+      [](const PathSegment&) {});
+}
+
+void CausticPhotonTracer::trace_segments(uint64_t index, PhotonStats& stats,
+                                         const std::function<void(const PathSegment&)>& visit) const {
+  walk(index, stats, [](const SurfaceHit&, const Vec3&, const Vec3&, const Color&) {}, visit);
 }
 
 void CausticPhotonTracer::trace(uint64_t first, uint64_t count, std::vector<Photon>& photons,

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <vector>
 
 #include "core/sampling.h"
@@ -20,6 +21,15 @@ struct Photon {
   Vec3 normal;     // geometric normal of the receiving surface, on the side the photon arrived from
   Vec3 direction;  // direction of travel
   Color power;     // flux of this one sample, in W: divide by the number of photons emitted
+};
+
+// A straight piece of a photon path after the path's first specular bounce, in air or inside glass:
+// what volume estimators such as Wyman 2003's local irradiance volumes accumulate.
+struct PathSegment {
+  Vec3 origin;
+  Vec3 direction;  // unit
+  float length;    // to the next surface; infinite when the photon leaves the scene
+  Color power;     // flux carried along it (inside glass: at its middle), in W: divide by the number emitted
 };
 
 struct PhotonTracerSettings {
@@ -82,6 +92,8 @@ class CausticPhotonTracer {
   void trace(uint64_t first, uint64_t count, std::vector<Photon>& photons, PhotonStats& stats) const;
   // Traces one photon path; appends at most a few photons (one per receiving surface on the path).
   void trace_one(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats) const;
+  // Traces the same path as trace_one(index) and calls `visit` for each of its PathSegments, in order.
+  void trace_segments(uint64_t index, PhotonStats& stats, const std::function<void(const PathSegment&)>& visit) const;
 
   // Total flux (luminance, W) that the lights send towards the targets' bounding spheres.
   double aimed_flux() const { return total_weight_; }
@@ -92,6 +104,8 @@ class CausticPhotonTracer {
 
  private:
   bool emit(Random& random, Ray& ray, Color& power) const;
+  template <class OnReceiver, class OnSegment>
+  void walk(uint64_t index, PhotonStats& stats, OnReceiver&& on_receiver, OnSegment&& on_segment) const;
 
   const Tracer& tracer_;
   PhotonTracerSettings settings_;

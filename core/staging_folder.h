@@ -2,6 +2,15 @@
 // reader never sees it half written and a process killed mid-way leaves only a staging folder that
 // remove_stale_staging() cleans up. Used for run folders (experiments/result_store.h) and builds
 // (methods/build_cache.h).
+//
+// Replacing an existing folder (a --force rerun) is one atomic exchange of the two names
+// (renameat2 RENAME_EXCHANGE), after which the old copy sits under the staging name and is removed: a
+// kill at any moment leaves the old copy or the new one in place, never neither. Where the file system
+// cannot exchange, the old copy is first renamed to <staging>.old and the new one then renamed into
+// place; remove_stale_staging() finishes such a replacement that a kill interrupted (the staging
+// folder is complete once its .old exists) or puts the old copy back. Each commit step is a write step
+// of core/files.h's fault injection: "commit FINAL", "replace FINAL" (between the two renames),
+// "discard OLD" (before the old copy is removed).
 #pragma once
 
 #include <string>
@@ -15,7 +24,8 @@ class StagingFolder {
   StagingFolder(const StagingFolder&) = delete;
   StagingFolder& operator=(const StagingFolder&) = delete;
   const std::string& path() const { return staging_; }
-  // Replaces any existing final folder (a --force rerun) and renames the staging folder into place.
+  // Replaces any existing final folder (a --force rerun, a damaged copy) and renames the staging folder
+  // into place. WriteError (core/files.h) when it cannot; the old copy is then still in place.
   void commit();
   // Renames the staging folder into place unless the final folder exists (another process finished
   // the same content first: its copy wins and ours is removed). Returns whether ours was used.
@@ -26,7 +36,8 @@ class StagingFolder {
   bool committed_ = false;
 };
 
-// Removes staging folders left by processes of this host that no longer exist (killed mid-run).
+// In `folder`: finishes or undoes the replacements that processes of this host were killed in (see
+// above), then removes their staging folders.
 void remove_stale_staging(const std::string& folder);
 
 }  // namespace causticbench

@@ -1,75 +1,13 @@
 #include "experiments/reference_frames.h"
 
-#include <filesystem>
-#include <fstream>
 #include <set>
 
 #include <fmt/format.h>
 
 #include "core/direct_lighting.h"
 #include "core/errors.h"
-#include "core/files.h"
-#include "methods/registry.h"
 
 namespace causticbench {
-
-namespace fs = std::filesystem;
-
-VariantFrames variant_frames(const Experiment& experiment, const SceneVariant& variant, const ResultPaths& paths) {
-  VariantFrames frames;
-  fs::path folder = paths.reference(variant.reference_key);
-  fs::create_directories(folder);
-  bool computed = false;
-  std::unique_ptr<RestPose> rest;  // posed only if a frame must be computed
-  for (int frame : experiment.frames) {
-    const PosedFrame& posed = *(frames.posed[frame] = std::make_unique<PosedFrame>(variant.scene, frame));
-    fs::path image = folder / (ResultPaths::frame_file(frame) + ".exr");
-    fs::path record = folder / (ResultPaths::frame_file(frame, "record") + ".json");
-    if (fs::is_regular_file(record) && fs::is_regular_file(image)) {
-      frames.reference[frame] = read_exr(image.string());
-      continue;
-    }
-    fmt::print(stderr, "reference {} frame {}{}: computing (cached in {})\n", variant.reference_key, frame,
-               experiment.variants.size() > 1 ? " of variant " + variant.name : "", folder.string());
-    std::unique_ptr<CausticMethod> method = create_method("reference");
-    const PhaseKnobs knobs = split_phases(experiment.reference_params, method->info().params);
-    auto zero = frames.posed.find(0);
-    const PosedFrame* frame_zero = zero == frames.posed.end() ? nullptr : zero->second.get();
-    prepare_method(*method, prepare_context(variant.scene, experiment.frames, frame_zero, rest), knobs.build);
-    Image caustic =
-        std::move(play_sequence(*method, {&posed}, knobs.frame, {knobs.render}, TimingProtocol{false, 1}).front().images.front());
-    write_exr(caustic, image.string());
-    write_exr(posed.gbuffer.to_image(), (folder / (ResultPaths::frame_file(frame, "gbuffer") + ".exr")).string());
-    nlohmann::json frame_record = method->record();
-    frame_record["frame"] = frame;
-    frame_record["params"] = experiment.reference_params.to_json();
-    write_text_atomically(record.string(), frame_record.dump(2) + "\n");
-    frames.reference[frame] = std::move(caustic);
-    computed = true;
-  }
-  if (!computed) return frames;
-  // record.json summarises every stored frame (of this and earlier experiments); its top level is the
-  // first frame's record.
-  nlohmann::json summary = nlohmann::json::object(), stored_frames = nlohmann::json::object();
-  int first = -1;
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    std::string file = entry.path().filename().string();
-    if (file.rfind("record_", 0) != 0) continue;
-    std::ifstream stream(entry.path());
-    nlohmann::json stored = nlohmann::json::parse(stream);
-    int index = stored["frame"].get<int>();
-    stored_frames[std::to_string(index)] = {{"noise_floor", stored["noise_floor"]}, {"passes", stored["passes"]},
-                                            {"seconds", stored["seconds"]}, {"stop_reason", stored["stop_reason"]}};
-    if (first < 0 || index < first) {
-      first = index;
-      summary = stored;
-    }
-  }
-  summary["frames"] = stored_frames;
-  summary["key"] = variant.reference_key;
-  write_text_atomically((folder / "record.json").string(), summary.dump(2) + "\n");
-  return frames;
-}
 
 namespace {
 

@@ -1,9 +1,16 @@
-// Where results live and how they are written: every run and reference frame appears complete or not
-// at all (written into a staging folder or temporary file, then renamed), so a sweep killed at any
-// moment resumes with nothing lost and nothing duplicated. Layout: docs/results-format.md.
+// Where results live and how they are written and read back. Every file goes through core/files.h's
+// atomic write helper and every run folder through a staging folder (core/staging_folder.h), so a run
+// or a reference frame appears complete or not at all, and a sweep killed at any moment resumes with
+// nothing lost and nothing duplicated. Every stored record is checked when read
+// (experiments/record_check.h); processes that share a results folder take a lock per reference and
+// per run (experiments/store_lock.h). Layout and guarantees: docs/results-format.md.
 #pragma once
 
 #include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "core/staging_folder.h"
 
@@ -16,9 +23,28 @@ struct ResultPaths {
   std::string run(const std::string& experiment_name, const std::string& key) const;
   std::string reference(const std::string& key) const;
   std::string builds() const;  // the build cache: <results>/builds/<key>/ (methods/build_cache.h)
+  // Lock files: <results>/.locks/references/<key>.lock and <results>/.locks/runs/<experiment>/<key>.lock
+  // (a hidden folder, which no experiment name can be).
+  std::string reference_lock(const std::string& key) const;
+  std::string run_lock(const std::string& experiment_name, const std::string& key) const;
   static std::string frame_file(int frame, const std::string& prefix = "frame");
 };
 
+// What a run folder holds: nothing, a record that passes its checks, or a damaged one.
+struct StoredRun {
+  enum class State { absent, stored, damaged };
+  State state = State::absent;
+  std::string problem;      // damaged: "<folder>/record.json: <what is wrong>"
+  nlohmann::json record;    // stored: the record
+  std::string record_hash;  // stored: xxHash64 of record.json, which tells whether another process replaced it
+};
+
+StoredRun inspect_stored_run(const std::string& run_folder);
 bool run_is_stored(const std::string& run_folder);
+
+// Writes a run folder: its images (file name, EXR bytes) and then its record, which gets their checksums
+// under "images", into a staging folder that replaces any copy in place in one atomic step.
+void store_run_folder(const std::string& run_folder, const std::vector<std::pair<std::string, std::string>>& images,
+                      nlohmann::json record);
 
 }  // namespace causticbench

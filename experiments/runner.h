@@ -1,7 +1,9 @@
 // `causticbench run`: expands an experiment into runs and executes the ones not yet stored.
 // prepare() runs once per distinct set of build knobs and is reused for every render knob; each
 // reference frame is computed once and cached by hash across experiments; each run is timed with
-// one warm-up and N repetitions of update + render per frame.
+// one warm-up and N repetitions of update + render per frame. Processes may share a results folder
+// (two invocations, the shards of a sweep): each run is done under its lock, by one of them
+// (experiments/run_selection.h), and a run another process holds is waited for at the end.
 #pragma once
 
 #include <string>

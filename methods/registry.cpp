@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "methods/lpi/lpi.h"
 #include "methods/photon_map/photon_map.h"
 #include "methods/pinhole/pinhole.h"
 #include "methods/reference/reference.h"
@@ -22,6 +23,7 @@ std::vector<MethodEntry>& mutable_registry() {
       entry<ReferenceMethod>(),
       entry<PhotonMapMethod>(),
       entry<PinholeMethod>(),
+      entry<LpiMethod>(),
   };
   return registry;
 }

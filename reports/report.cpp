@@ -23,6 +23,7 @@
 #include "core/gbuffer.h"
 #include "core/image_statistics.h"
 #include "experiments/experiment.h"
+#include "experiments/record_check.h"
 #include "experiments/result_store.h"
 #include "metrics/metrics.h"
 
@@ -432,6 +433,7 @@ void load(Report& report, const std::string& folder_text) {
       if (entry.is_directory()) keys.push_back(entry.path().filename().string());
     std::sort(keys.begin(), keys.end());
   }
+  size_t unconverged = 0;  // runs measured against a reference stopped by its time cap
   for (const std::string& key : keys) {
     fs::path path = folder / "runs" / key / "record.json";
     if (!fs::is_regular_file(path)) {
@@ -442,7 +444,9 @@ void load(Report& report, const std::string& folder_text) {
     run.key = key;
     try {
       run.record = read_json(path);
-      if (!run.record.is_object()) throw InputError(fmt::format("{} is not a JSON object", path.string()));
+      // The store's own check (experiments/record_check.h): a damaged record is never shown as ok.
+      std::string problem = run_record_problem(run.record, (folder / "runs" / key).string());
+      if (!problem.empty()) throw InputError(fmt::format("damaged record {}: {}", path.string(), problem));
     } catch (const InputError& failure) {
       run.record = json{{"key", key}, {"status", "failed"}, {"error", failure.what()}};
     }
@@ -453,8 +457,13 @@ void load(Report& report, const std::string& folder_text) {
     run.error = string_member(run.record, "error");
     if (!run.ok && run.error.empty()) run.error = "(no error message recorded)";
     run.empty_reference = member(run.record, "empty_reference").is_object();
+    if (member(run.record, "reference_converged") == false) ++unconverged;
     report.runs.push_back(std::move(run));
   }
+  if (unconverged)
+    report.notes.push_back(fmt::format("{} run(s) were measured against a reference that stopped on its time cap "
+                                       "(max_seconds), not converged: their errors include the reference's own.",
+                                       unconverged));
   if (report.runs.empty() && report.missing.empty()) report.notes.push_back("experiment.json names no runs.");
   if (fs::is_directory(folder / "runs")) {
     std::set<std::string> known(keys.begin(), keys.end());
@@ -1895,6 +1904,7 @@ std::vector<std::pair<std::string, std::string>> experiment_facts(const Report& 
     if (passes.is_number()) text += ", " + value_text(passes) + " passes";
     const json& seconds = member(variant.reference, "seconds");
     if (seconds.is_number()) text += ", " + num(seconds.get<double>()) + " s";
+    if (member(variant.reference, "converged") == false) text += ", NOT converged (stopped on its time cap)";
     return text;
   };
   std::string resolution = resolution_text(member(report.experiment, "resolution"));

@@ -111,6 +111,40 @@ TEST(PhotonTracer, ExplicitSceneLightAndTargetsMatchTheDefaultBitForBit) {
   expect_same_photons(expected, one_by_one);
 }
 
+// trace_segments walks the path trace_one walks: every photon trace_one deposits ends a segment of
+// the same path carrying the same power (the segment into a receiver is in air here), and both
+// count the same rays.
+TEST(PhotonTracer, SegmentsFollowThePathsPhotonsTake) {
+  Scene scene = scene_from_yaml(kGlassSphere);
+  SceneFrame frame(scene, 0);
+  Tracer tracer(frame);
+  const CausticPhotonTracer photon_tracer(tracer, PhotonTracerSettings{3});
+  size_t matched = 0, photons_total = 0, segments_total = 0;
+  for (uint64_t index = 0; index < 5000; ++index) {
+    std::vector<Photon> photons;
+    PhotonStats photon_stats, segment_stats;
+    photon_tracer.trace_one(index, photons, photon_stats);
+    std::vector<PathSegment> segments;
+    photon_tracer.trace_segments(index, segment_stats, [&](const PathSegment& segment) { segments.push_back(segment); });
+    EXPECT_EQ(photon_stats.rays, segment_stats.rays);
+    for (const Photon& photon : photons) {
+      for (const PathSegment& segment : segments) {
+        if (!std::isfinite(segment.length)) continue;
+        const Vec3 end = segment.origin + segment.direction * segment.length;
+        if (glm::length(end - photon.position) < 1e-4f && segment.power == photon.power) {
+          ++matched;
+          break;
+        }
+      }
+    }
+    photons_total += photons.size();
+    segments_total += segments.size();
+  }
+  ASSERT_GT(photons_total, 500u);
+  EXPECT_EQ(matched, photons_total);
+  EXPECT_GT(segments_total, photons_total);  // paths through the sphere have a segment inside it too
+}
+
 TEST(PhotonTracer, PhotonLightsFramesStayValidAsLightsAreAddedAndMoved) {
   PhotonLights lights;
   // Enough lights that a vector of Light would have reallocated many times.

@@ -25,10 +25,11 @@ Scene scene_from_yaml(const std::string& yaml, const std::string& name) {
   return load_scene_from_string(yaml, name, ".");
 }
 
-FrameResult render(const Scene& scene, const std::string& method, const std::vector<std::string>& knobs) {
+FrameResult render(const Scene& scene, const std::string& method, const std::vector<std::string>& knobs, int frame) {
   RenderRequest request;
   request.scene = &scene;
   request.method = method;
+  request.frame = frame;
   for (const std::string& knob : knobs) request.params.set_assignment(knob, "test");
   CheckedRequest checked = check_request(request);
   return run_frame(request, checked);

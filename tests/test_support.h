@@ -14,8 +14,8 @@ extern const char* const kSmallGlassSphere;
 
 Scene scene_from_yaml(const std::string& yaml, const std::string& name = "test.yaml");
 
-// Runs `method` with the given "key=value" knobs on frame 0.
-FrameResult render(const Scene& scene, const std::string& method, const std::vector<std::string>& knobs);
+// Runs `method` with the given "key=value" knobs on one frame.
+FrameResult render(const Scene& scene, const std::string& method, const std::vector<std::string>& knobs, int frame = 0);
 
 // `text` with the first occurrence of `from` replaced (a test failure when there is none).
 std::string replace_once(std::string text, const std::string& from, const std::string& to);

@@ -1,0 +1,124 @@
+#include "experiments/record_check.h"
+
+#include <filesystem>
+#include <initializer_list>
+
+#include <fmt/format.h>
+
+#include "experiments/store_files.h"
+
+namespace causticbench {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+enum class Kind { string, integer, number, object, array };
+
+struct Field {
+  const char* name;
+  Kind kind;
+};
+
+const char* kind_name(Kind kind) {
+  switch (kind) {
+    case Kind::string: return "a string";
+    case Kind::integer: return "an integer";
+    case Kind::number: return "a number";
+    case Kind::object: return "an object";
+    case Kind::array: return "an array";
+  }
+  return "?";
+}
+
+bool has_kind(const nlohmann::json& value, Kind kind) {
+  switch (kind) {
+    case Kind::string: return value.is_string();
+    case Kind::integer: return value.is_number_integer();
+    case Kind::number: return value.is_number();
+    case Kind::object: return value.is_object();
+    case Kind::array: return value.is_array();
+  }
+  return false;
+}
+
+// The first required field that is missing or of another type, as "field 'x' is missing".
+std::string schema_problem(const nlohmann::json& object, std::initializer_list<Field> fields, const std::string& where = "") {
+  for (const Field& field : fields) {
+    std::string name = where + "'" + field.name + "'";
+    if (!object.contains(field.name)) return fmt::format("field {} is missing", name);
+    if (!has_kind(object[field.name], field.kind)) {
+      return fmt::format("field {} is {}, expected {}", name, object[field.name].type_name(), kind_name(field.kind));
+    }
+  }
+  return "";
+}
+
+std::string image_problem(const nlohmann::json& record, const std::string& run_folder, const std::string& image) {
+  if (image.empty() || image.find('/') != std::string::npos || image.front() == '.') {
+    return fmt::format("it names the image '{}', not a file of its folder", image);
+  }
+  std::string path = (fs::path(run_folder) / image).string();
+  std::optional<std::string> bytes = read_file_bytes(path);
+  if (!bytes) return fmt::format("its image {} is missing or unreadable", image);
+  const nlohmann::json* images = record.contains("images") ? &record["images"] : nullptr;
+  if (!images) return bytes->empty() ? fmt::format("its image {} is empty", image) : "";
+  if (!images->is_object() || !images->contains(image)) return fmt::format("'images' has no checksum of {}", image);
+  std::string problem = checksum_problem((*images)[image], *bytes);
+  return problem.empty() ? "" : fmt::format("its image {}: {}", image, problem);
+}
+
+}  // namespace
+
+std::string run_record_problem(const nlohmann::json& record, const std::string& run_folder) {
+  if (!record.is_object()) return fmt::format("it is {}, not a JSON object", record.type_name());
+  std::string problem = schema_problem(record, {{"key", Kind::string},
+                                                {"status", Kind::string},
+                                                {"error", Kind::string},
+                                                {"method", Kind::string},
+                                                {"label", Kind::string}});
+  if (!problem.empty()) return problem;
+  std::string folder_name = fs::path(run_folder).filename().string();
+  if (record["key"] != folder_name) {
+    return fmt::format("its key is '{}', but its folder is {}", record["key"].get<std::string>(), folder_name);
+  }
+  const std::string status = record["status"];
+  if (status == "failed") return "";
+  if (status != "ok") return fmt::format("its status is '{}', expected ok or failed", status);
+  problem = schema_problem(record, {{"frames", Kind::array}, {"metrics", Kind::object}, {"timings", Kind::object}});
+  if (!problem.empty()) return problem;
+  if (record["frames"].empty()) return "an ok record with no frame";
+  for (const nlohmann::json& frame : record["frames"]) {
+    if (!frame.is_object()) return "an entry of 'frames' is not an object";
+    problem = schema_problem(frame, {{"frame", Kind::integer}, {"image", Kind::string}}, "frames[]: ");
+    if (!problem.empty()) return problem;
+    problem = image_problem(record, run_folder, frame["image"].get<std::string>());
+    if (!problem.empty()) return problem;
+  }
+  return "";
+}
+
+std::string reference_frame_record_problem(const nlohmann::json& record, int frame) {
+  if (!record.is_object()) return fmt::format("it is {}, not a JSON object", record.type_name());
+  std::string problem = schema_problem(record, {{"frame", Kind::integer},
+                                                {"passes", Kind::integer},
+                                                {"seconds", Kind::number},
+                                                {"noise_floor", Kind::number},
+                                                {"stop_reason", Kind::string}});
+  if (!problem.empty()) return problem;
+  if (record["frame"].get<int64_t>() != frame) return fmt::format("it is the record of frame {}", record["frame"].get<int64_t>());
+  return "";
+}
+
+std::optional<std::string> reference_unconverged_reason(const nlohmann::json& frame_record) {
+  if (!frame_record.is_object()) return std::nullopt;
+  if (frame_record.contains("converged") && frame_record["converged"] == true) return std::nullopt;
+  if (frame_record.contains("unconverged_reason") && frame_record["unconverged_reason"].is_string())
+    return frame_record["unconverged_reason"].get<std::string>();
+  // Records written before the flag: the stop reason says it.
+  if (frame_record.value("stop_reason", "") == "max_seconds")
+    return "stopped by its time cap (max_seconds), so its pass count depends on the speed of the machine that computed it";
+  return std::nullopt;
+}
+
+}  // namespace causticbench

@@ -1,0 +1,227 @@
+#include "methods/lpi/lpi.h"
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "core/parallel.h"
+#include "core/progress.h"
+#include "methods/lpi/lookup.h"
+
+namespace causticbench {
+
+using namespace lpi;
+
+const MethodInfo& LpiMethod::static_info() {
+  static const MethodInfo info = [] {
+    MethodInfo m;
+    m.name = "lpi";
+    m.paper = "C. Wyman, C. Hansen, P. Shirley, \"Interactive Raytraced Caustics\", Univ. of Utah UUCS-03-009, 2003 "
+              "(local precomputed irradiance)";
+    m.summary = "Precomputes each specular object's caustic irradiance in a volume around it (a grid or concentric "
+                "geodesic shells) for a set of light directions, by photon tracks through the object alone; per frame "
+                "it turns the light into the object's frame and looks the caustic up, blending neighbouring light samples.";
+    const std::vector<std::string> grid = {"grid"}, shells = {"shells"};
+    m.params = {
+        ParamSpec::choice("storage", "grid", {"grid", "shells"},
+                          "how the volume is sampled: a uniform grid of cells, or concentric shells sampled at geodesic "
+                          "vertices (Section 4.2)",
+                          ParamPhase::build),
+        ParamSpec::integer("grid_resolution", 64, 1, 512, "cells along each axis of the grid over the sampled ball",
+                           ParamPhase::build)
+            .only_when("storage", grid),
+        ParamSpec::integer("shell_count", 12, 1, 256, "concentric shells from the centre to volume_radius", ParamPhase::build)
+            .only_when("storage", shells),
+        ParamSpec::integer("shell_subdivision", 4, 0, 7,
+                           "subdivisions of the icosahedron whose 10 4^s + 2 vertices sample each shell", ParamPhase::build)
+            .only_when("storage", shells),
+        ParamSpec::choice("shell_spacing", "uniform", {"uniform", "quadratic"},
+                          "radii of the shells: uniform, or quadratic (r_k = R ((k + 1) / K)^2, denser near the object)",
+                          ParamPhase::build)
+            .only_when("storage", shells),
+        ParamSpec::choice("precision", "float32", {"uint8", "float16", "float32"},
+                          "stored value type; uint8 scales each light sample's values to 0..255 (the paper stored 3 bytes a colour)",
+                          ParamPhase::build),
+        ParamSpec::choice("orientation", "paper", {"paper", "vector"},
+                          "paper: irradiance on the surface facing the object's centre, corrected by the cosine to the "
+                          "receiver's normal (Section 3.2); vector: the vector irradiance, shaded max(0, n . E)",
+                          ParamPhase::build),
+        ParamSpec::real("volume_radius", 3.0, 0.01, 1000.0, "radius of the sampled ball, in bounding radii of the object",
+                        ParamPhase::build),
+        ParamSpec::integer("photons_per_sample", 1000000, 1, 4e9, "photons shot at the object per light sample",
+                           ParamPhase::build),
+        ParamSpec::integer("seed", 1, 0, 4e9, "seed of the photon paths", ParamPhase::build),
+        ParamSpec::choice("light_samples", "auto", {"auto", "all"},
+                          "auto: when no light's direction in an object's frame changes over the rendered frames, just "
+                          "those directions; otherwise (and with all) the geodesic set",
+                          ParamPhase::build),
+        ParamSpec::integer("light_subdivision", 2, 0, 6,
+                           "subdivisions of the icosahedron of light directions (2: 162 vertices, as for the bunny)",
+                           ParamPhase::build),
+        ParamSpec::choice("light_sample_at", "vertices", {"vertices", "faces"},
+                          "light samples at the geodesic's vertices (10 4^s + 2) or face centres (20 4^s)", ParamPhase::build),
+        ParamSpec::choice("symmetry", "none", {"none", "axial", "spherical"},
+                          "axial: samples on one meridian of the object's local y axis, the lookup turns the light about "
+                          "it; spherical: one sample, every direction turned onto it",
+                          ParamPhase::build),
+        ParamSpec::choice("blend", "barycentric", {"nearest", "barycentric", "aligned"},
+                          "nearest light sample (pops), barycentric blend of three (ghosts), or aligned: each of the "
+                          "three read at the point turned by the angle between it and the light (Section 5.2)",
+                          ParamPhase::frame),
+        ParamSpec::choice("outside", "clamp", {"clamp", "fade", "zero"},
+                          "beyond the sampled ball: the value on its surface (clamp), that times (R / d)^2 (fade), or none",
+                          ParamPhase::render),
+    };
+    Capabilities& c = m.capabilities;
+    c.reflection = c.refraction = true;
+    c.directional_light = true;
+    c.moving_light = c.moving_objects = true;
+    c.non_lambertian_receivers = true;
+    c.notes = {
+        {"multiple_bounces", "any number within one object (glass in and out, a ring's self-reflections); none between "
+                             "objects: each object's caustic is precomputed alone"},
+        {"point_light", "taken as a directional light from the object's centre, with the irradiance there"},
+        {"environment_light", "refused for now"},
+        {"moving_light", "light samples over the directions the light takes in the object's frame, blended per frame"},
+        {"moving_objects", "the caustic moves and turns with its object; a changing scale is not followed"},
+        {"occlusion", "the caustic reaches receivers behind other objects"},
+        {"non_lambertian_receivers", "E_c is irradiance, whatever the receiver's BRDF"},
+    };
+    m.quick_knobs = {"photons_per_sample=20000", "light_subdivision=0"};
+    return m;
+  }();
+  return info;
+}
+
+VolumeSettings lpi::volume_settings(const ParamSet& build) {
+  VolumeSettings settings;
+  settings.storage = build.text("storage") == "grid" ? StorageKind::grid : StorageKind::shells;
+  if (settings.storage == StorageKind::grid) {
+    settings.grid_resolution = static_cast<int>(build.integer("grid_resolution"));
+  } else {
+    settings.shell_count = static_cast<int>(build.integer("shell_count"));
+    settings.shell_subdivision = static_cast<int>(build.integer("shell_subdivision"));
+    settings.shell_spacing = build.text("shell_spacing") == "uniform" ? 0 : 1;
+  }
+  settings.precision = parse_precision(build.text("precision"));
+  settings.orientation = build.text("orientation") == "paper" ? Orientation::paper : Orientation::vector;
+  settings.volume_radius = build.real("volume_radius");
+  settings.photons_per_sample = static_cast<uint64_t>(build.integer("photons_per_sample"));
+  settings.seed = static_cast<uint64_t>(build.integer("seed"));
+  return settings;
+}
+
+void LpiMethod::check_scene(const Scene& scene) const {
+  if (!scene.has_specular_object()) {
+    throw InputError(fmt::format("{}: lpi precomputes the caustics of specular objects, and the scene has none",
+                                 scene.source));
+  }
+  for (const Light& light : scene.lights) {
+    if (light.kind == LightKind::environment_image || light.kind == LightKind::gaussian_spot) {
+      throw InputError(fmt::format("{}: light '{}' is an environment light; lpi renders directional and point lights only",
+                                   scene.source, light.name));
+    }
+  }
+}
+
+void LpiMethod::prepare(const PrepareContext& context, const ParamSet& build) {
+  plan(context, build);
+  size_t total = 0;
+  for (const ObjectVolumes& object : objects_) total += object.samples.directions.size();
+  Progress progress("lpi light samples", static_cast<double>(total));
+  size_t done_before = 0;
+  for (ObjectVolumes& object : objects_) {
+    const Scene alone = build_space_scene(context.scene, object.object);
+    shoot_light_samples(alone, settings_, object, [&](size_t done, size_t) {
+      progress.update(static_cast<double>(done_before + done), object.name);
+    });
+    done_before += object.samples.directions.size();
+  }
+  progress.finish();
+}
+
+void LpiMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
+  const std::string blend_name = frame_knobs.text("blend");
+  const Blend blend = blend_name == "nearest" ? Blend::nearest : blend_name == "barycentric" ? Blend::barycentric : Blend::aligned;
+  frame_.assign(objects_.size(), ObjectFrame{});
+  for (size_t i = 0; i < objects_.size(); ++i) {
+    const ObjectVolumes& object = objects_[i];
+    ObjectFrame& view = frame_[i];
+    view.map = build_space_map(scene_->objects[object.object], frame.frame.frame);
+    for (const LightFrame& light : frame.frame.lights) {
+      lpi::LightView light_view;
+      Vec3 direction;
+      if (light.kind == LightKind::point) {
+        // A point light as a directional one from the object's centre (the paper's assumption).
+        const Vec3 to_light = view.map.point(light.position) - object.bounds.center;
+        if (!(glm::length(to_light) > 0.0f)) continue;  // a light at the centre has no direction
+        const Vec3 world_offset = glm::inverse(view.map.linear) * to_light;  // the distance is the world's
+        direction = glm::normalize(to_light);
+        light_view.irradiance = light.light->intensity / std::max(1e-12f, glm::dot(world_offset, world_offset));
+      } else {
+        direction = glm::normalize(view.map.vector(light.direction_to_light));
+        light_view.irradiance = light.light->irradiance;
+      }
+      light_view.reads = light_reads(object.samples, direction, blend);
+      view.lights.push_back(light_view);
+    }
+  }
+}
+
+Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
+  Image result(gbuffer.width, gbuffer.height, 3);
+  const std::string outside = render.text("outside");
+  const Outside mode = outside == "clamp" ? Outside::clamp : outside == "fade" ? Outside::fade : Outside::zero;
+  parallel_blocks(gbuffer.pixel_count(), 1024, [&](size_t begin, size_t end, size_t) {
+    for (size_t i = 0; i < objects_.size(); ++i) {
+      const ObjectVolumes& object = objects_[i];
+      const ObjectView view{object.values, frame_[i].map, frame_[i].lights.data(), frame_[i].lights.size(), mode};
+      // The concrete layout, so that its stencil inlines into the per-pixel loop.
+      if (const auto* grid = dynamic_cast<const GridLayout*>(object.layout.get())) {
+        add_object_caustic(*grid, view, gbuffer, begin, end, result);
+      } else {
+        add_object_caustic(static_cast<const ShellLayout&>(*object.layout), view, gbuffer, begin, end, result);
+      }
+    }
+  });
+  return result;
+}
+
+size_t LpiMethod::memory_bytes() const {
+  size_t bytes = 0;
+  for (const ObjectVolumes& object : objects_) {
+    bytes += object.values.memory_bytes() + object.layout->memory_bytes();
+    if (object.samples.mesh) bytes += object.samples.mesh->memory_bytes();
+  }
+  return bytes;
+}
+
+Counters LpiMethod::counters() const {
+  double samples = 0.0, photons = 0.0, seconds = 0.0, bytes_per_sample = 0.0;
+  for (const ObjectVolumes& object : objects_) {
+    samples += static_cast<double>(object.samples.directions.size());
+    photons += static_cast<double>(object.stats.emitted);
+    seconds += object.shoot_seconds;
+    bytes_per_sample += static_cast<double>(object.values.bytes_per_light_sample());
+  }
+  return {{"light_samples", samples},
+          {"photons_emitted", photons},
+          {"shoot_seconds_per_light_sample", samples > 0.0 ? seconds / samples : 0.0},
+          {"bytes_per_light_sample", bytes_per_sample}};
+}
+
+nlohmann::json LpiMethod::record() const {
+  nlohmann::json objects = nlohmann::json::array();
+  for (const ObjectVolumes& object : objects_) {
+    objects.push_back({{"object", object.name},
+                       {"light_sample_set", object.samples.kind},
+                       {"why", object.samples.reason},
+                       {"light_samples", object.samples.directions.size()},
+                       {"sample_points", object.layout->points()},
+                       {"bytes_per_light_sample", object.values.bytes_per_light_sample()},
+                       {"volume_radius", object.layout->radius()},
+                       {"shoot_seconds", object.shoot_seconds}});
+  }
+  return {{"objects", objects}};
+}
+
+}  // namespace causticbench

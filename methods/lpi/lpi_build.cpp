@@ -1,0 +1,200 @@
+// lpi's build: which light samples each object needs (plan), and the build cache's view of them:
+// what determines them (build_dependencies) and their files (save_build, load_build).
+#include <filesystem>
+#include <cstring>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "core/scene_description.h"
+#include "methods/lpi/lpi.h"
+
+namespace causticbench {
+
+using namespace lpi;
+
+namespace {
+
+// Every light's direction towards it in the object's build space, per rendered frame.
+std::vector<std::vector<Vec3>> light_directions(const Scene& scene, int object, const BoundingSphere& bounds,
+                                                const std::vector<int>& frames) {
+  std::vector<std::vector<Vec3>> directions(scene.lights.size());
+  for (int frame : frames) {
+    const BuildSpaceMap map = build_space_map(scene.objects[object], frame);
+    for (size_t l = 0; l < scene.lights.size(); ++l) {
+      const LightFrame light = pose_light(scene.lights[l], frame);
+      Vec3 direction = light.kind == LightKind::point ? map.point(light.position) - bounds.center
+                                                      : map.vector(light.direction_to_light);
+      if (!(glm::length(direction) > 0.0f)) continue;
+      directions[l].push_back(glm::normalize(direction));
+    }
+  }
+  return directions;
+}
+
+bool same_direction(const Vec3& a, const Vec3& b) { return glm::length(a - b) <= 1e-6f; }
+
+// Model only what the scene requires: a light whose direction in the object's frame never changes
+// gets its one direction; otherwise the set the knobs describe.
+LightSampleSet choose_samples(const Scene& scene, int object, const BoundingSphere& bounds, const std::vector<int>& frames,
+                              const ParamSet& build) {
+  const std::vector<std::vector<Vec3>> directions = light_directions(scene, object, bounds, frames);
+  const std::string symmetry = build.text("symmetry");
+  const int level = static_cast<int>(build.integer("light_subdivision"));
+  if (symmetry == "spherical") {
+    LightSampleSet set;
+    set.kind = "spherical";
+    set.reason = "symmetry: spherical: one light sample, every light direction turned onto it";
+    set.directions = {Vec3(0.0f, 1.0f, 0.0f)};
+    for (const auto& light : directions) {
+      if (!light.empty()) {
+        set.directions = {light.front()};
+        break;
+      }
+    }
+    return set;
+  }
+  bool fixed = true;
+  std::vector<Vec3> distinct;
+  for (const auto& light : directions) {
+    for (const Vec3& direction : light) fixed = fixed && same_direction(direction, light.front());
+    if (light.empty()) continue;
+    bool known = false;
+    for (const Vec3& seen : distinct) known = known || same_direction(seen, light.front());
+    if (!known) distinct.push_back(light.front());
+  }
+  if (build.text("light_samples") == "auto" && fixed && !distinct.empty()) {
+    LightSampleSet set;
+    set.kind = "static";
+    set.directions = distinct;
+    set.reason = fmt::format("light_samples: auto, and no light's direction in the object's frame changes over the {} "
+                             "rendered frame(s): {} light sample(s), one per direction",
+                             frames.size(), distinct.size());
+    return set;
+  }
+  const std::string why = build.text("light_samples") == "all" ? "light_samples: all"
+                                                                 : "the light's direction in the object's frame changes over the rendered frames";
+  if (symmetry == "axial") {
+    LightSampleSet set = meridian_samples(level, Vec3(0.0f, 1.0f, 0.0f));
+    set.reason = fmt::format("{}; symmetry: axial: {} samples on one meridian of the object's y axis", why,
+                             set.directions.size());
+    return set;
+  }
+  LightSampleSet set = geodesic_samples(level, build.text("light_sample_at") == "vertices" ? SampleAt::vertices : SampleAt::faces);
+  set.reason = fmt::format("{}: the geodesic set, subdivision {} at its {}, {} samples", why, level,
+                           build.text("light_sample_at"), set.directions.size());
+  return set;
+}
+
+nlohmann::json directions_json(const std::vector<Vec3>& directions) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const Vec3& d : directions) list.push_back({d.x, d.y, d.z});
+  return list;
+}
+
+const char* kValuesFormat = "causticbench lpi values 1";
+
+}  // namespace
+
+void LpiMethod::plan(const PrepareContext& context, const ParamSet& build) {
+  settings_ = volume_settings(build);
+  scene_ = &context.scene;
+  objects_.clear();
+  frame_.clear();
+  for (int object : context.rest.specular_objects()) {
+    ObjectVolumes volumes;
+    volumes.object = object;
+    volumes.name = context.scene.objects[object].name;
+    const Scene alone = build_space_scene(context.scene, object);
+    const SceneFrame frame(alone, 0.0);
+    volumes.bounds = frame.bounds[0];
+    volumes.samples = choose_samples(context.scene, object, volumes.bounds, context.frames, build);
+    volumes.layout = make_layout(settings_, volumes.bounds);
+    objects_.push_back(std::move(volumes));
+  }
+}
+
+// Per specular object: its shape, material and scale at frame 0 (not where it stands or how it is
+// turned: the build is in the object's own frame), and the light directions its set holds.
+std::optional<nlohmann::json> LpiMethod::build_dependencies(const PrepareContext& context, const ParamSet& build) const {
+  nlohmann::json objects = nlohmann::json::array();
+  for (int object : context.rest.specular_objects()) {
+    const SceneObject& source = context.scene.objects[object];
+    const Scene alone = build_space_scene(context.scene, object);
+    const SceneFrame frame(alone, 0.0);
+    const LightSampleSet set = choose_samples(context.scene, object, frame.bounds[0], context.frames, build);
+    const glm::dvec3 scale = source.transform.scale.at(0.0);
+    nlohmann::json samples = {{"kind", set.kind}};
+    if (set.kind == "static" || set.kind == "spherical") samples["directions"] = directions_json(set.directions);
+    objects.push_back({{"shape", shape_json(source.shape)},
+                       {"material", material_json(source.material)},
+                       {"scale", {scale.x, scale.y, scale.z}},
+                       {"light_samples", samples}});
+  }
+  return nlohmann::json{{"objects", objects}, {"build", build.to_json()}};
+}
+
+// One file per object: a header line, then the stored values' raw bytes and their uint8 scales.
+void LpiMethod::save_build(const std::string& folder) const {
+  nlohmann::json meta = nlohmann::json::array();
+  for (size_t i = 0; i < objects_.size(); ++i) {
+    const ObjectVolumes& object = objects_[i];
+    const std::string name = fmt::format("object_{}.bin", i);
+    std::ofstream stream(std::filesystem::path(folder) / name, std::ios::binary);
+    const uint64_t header[3] = {object.values.bytes().size(), object.values.scales().size(), object.values.points()};
+    stream.write(kValuesFormat, static_cast<std::streamsize>(std::strlen(kValuesFormat) + 1));
+    stream.write(reinterpret_cast<const char*>(header), sizeof(header));
+    stream.write(reinterpret_cast<const char*>(object.values.bytes().data()),
+                 static_cast<std::streamsize>(object.values.bytes().size()));
+    stream.write(reinterpret_cast<const char*>(object.values.scales().data()),
+                 static_cast<std::streamsize>(object.values.scales().size() * sizeof(float)));
+    if (!stream) throw std::runtime_error(folder + "/" + name + ": write failed");
+    meta.push_back({{"file", name},
+                    {"object", object.name},
+                    {"shoot_seconds", object.shoot_seconds},
+                    {"emitted", object.stats.emitted},
+                    {"deposited", object.stats.deposited},
+                    {"rays", object.stats.rays}});
+  }
+  std::ofstream stream(std::filesystem::path(folder) / "volumes.json");
+  stream << meta.dump(2) << "\n";
+  if (!stream) throw std::runtime_error(folder + "/volumes.json: write failed");
+}
+
+void LpiMethod::load_build(const PrepareContext& context, const ParamSet& build, const std::string& folder) {
+  plan(context, build);
+  std::ifstream meta_stream(std::filesystem::path(folder) / "volumes.json");
+  const nlohmann::json meta = nlohmann::json::parse(meta_stream, nullptr, false);
+  if (meta.is_discarded() || !meta.is_array() || meta.size() != objects_.size()) {
+    throw std::runtime_error(folder + "/volumes.json: unreadable or not one entry per specular object");
+  }
+  for (size_t i = 0; i < objects_.size(); ++i) {
+    ObjectVolumes& object = objects_[i];
+    const std::string path = (std::filesystem::path(folder) / fmt::format("object_{}.bin", i)).string();
+    std::ifstream stream(path, std::ios::binary);
+    std::string format(std::strlen(kValuesFormat) + 1, '\0');
+    stream.read(format.data(), static_cast<std::streamsize>(format.size()));
+    uint64_t header[3] = {};
+    stream.read(reinterpret_cast<char*>(header), sizeof(header));
+    const size_t channels = static_cast<size_t>(channel_count(settings_.orientation));
+    const size_t expected_bytes = object.samples.directions.size() * object.layout->points() * channels *
+                                  precision_bytes(settings_.precision);
+    if (!stream || format != std::string(kValuesFormat, format.size()) || header[0] != expected_bytes ||
+        header[1] != object.samples.directions.size() || header[2] != object.layout->points()) {
+      throw std::runtime_error(path + ": not the values of this build");
+    }
+    std::vector<uint8_t> bytes(header[0]);
+    std::vector<float> scales(header[1]);
+    stream.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    stream.read(reinterpret_cast<char*>(scales.data()), static_cast<std::streamsize>(scales.size() * sizeof(float)));
+    if (!stream) throw std::runtime_error(path + ": truncated");
+    object.values = StoredValues::from_raw(settings_.precision, static_cast<int>(channels),
+                                           settings_.orientation == Orientation::vector, object.layout->points(),
+                                           std::move(bytes), std::move(scales));
+    object.shoot_seconds = meta[i].value("shoot_seconds", 0.0);
+    object.stats = PhotonStats{meta[i].value("emitted", uint64_t{0}), meta[i].value("deposited", uint64_t{0}),
+                               meta[i].value("rays", uint64_t{0})};
+  }
+}
+
+}  // namespace causticbench
