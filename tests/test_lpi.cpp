@@ -123,7 +123,7 @@ objects:
                                                   -chosen.x, -chosen.y, -chosen.z));
   const FrameResult reference = causticbench::testing::render(scene, "reference", kReferenceKnobs);
   const std::vector<uint8_t> mask = inside_volume(reference.gbuffer, Vec3(0.0f, 0.2f, 0.0f), 3.0f * 0.6325f);
-  for (const std::string& orientation : {"orientation=vector", "orientation=paper"}) {
+  for (const std::string orientation : {"orientation=vector", "orientation=paper"}) {
     const FrameResult lpi = causticbench::testing::render(scene, "lpi", {"light_samples=all", "light_subdivision=1", orientation,
                                                         "photons_per_sample=200000", "grid_resolution=48"});
     EXPECT_EQ(lpi.method_record["objects"][0]["light_samples"], 42);
@@ -238,11 +238,13 @@ TEST(Lpi, ExtremesAreFiniteAndSane) {
         EXPECT_EQ(zero.caustic.at(pixel, c), 0.0f);
         outside += c == 0;
       }
-      if (distance < radius * 0.999f) EXPECT_EQ(zero.caustic.at(pixel, c), clamp.caustic.at(pixel, c));
+      if (distance < radius * 0.999f) {
+        EXPECT_EQ(zero.caustic.at(pixel, c), clamp.caustic.at(pixel, c));
+      }
     }
   }
   EXPECT_GT(outside, 100u);
-  for (const std::string& level : {"light_subdivision=0", "light_subdivision=6"}) {
+  for (const std::string level : {"light_subdivision=0", "light_subdivision=6"}) {
     const FrameResult result = causticbench::testing::render(scene, "lpi", {"light_samples=all", level, "photons_per_sample=40", "grid_resolution=3"});
     for (float value : result.caustic.values()) ASSERT_TRUE(std::isfinite(value) && value >= 0.0f) << level;
   }

@@ -43,7 +43,8 @@ class VolumeLayout {
   float radius() const { return radius_; }
   virtual size_t points() const = 0;
   // Adds the segment's contribution to `sums` (points() * channel_count(orientation) values), before
-  // normalise(). The segment is in build space; pieces outside the ball add nothing.
+  // normalise(). The segment is in build space; pieces outside the layout's region (the ball for
+  // shells, the cube around it for the grid) add nothing.
   virtual void deposit(const PathSegment& segment, Orientation orientation, float* sums) const = 0;
   // Turns the sums of power x length (x cosine) into irradiance: divides each point's values by the
   // volume its estimator kernel integrates to, and by the number of photons emitted.
