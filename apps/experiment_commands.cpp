@@ -21,6 +21,7 @@ int run_experiment_command(const ExperimentOptions& options) {
   run.filter = options.filter;
   run.threads = options.threads;
   if (!options.shard.empty()) parse_shard(options.shard, run.shard_index, run.shard_count);
+  check_results_folder(options.results);
   ThreadLimit limit(options.threads);
   RunSummary summary = run_experiment(experiment, run);
   fmt::print("{}: {} runs, {} selected, {} already stored, {} run now, {} failed\n", experiment.name, summary.total,

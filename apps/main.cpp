@@ -4,6 +4,7 @@
 
 #include "apps/commands.h"
 #include "core/errors.h"
+#include "core/files.h"
 #include "core/progress.h"
 #include "methods/registry.h"
 
@@ -106,6 +107,10 @@ int main(int argc, char** argv) {
   } catch (const InputError& error) {
     fmt::print(stderr, "error: {}\n", error.what());
     return 2;
+  } catch (const WriteError& error) {
+    // The environment's fault (a full disk, a folder made read-only), not the input's nor a bug.
+    fmt::print(stderr, "error: {}\n", error.what());
+    return 1;
   } catch (const std::exception& error) {
     fmt::print(stderr, "internal error: {}\n", error.what());
     return 1;

@@ -1,4 +1,5 @@
 #include <filesystem>
+#include <map>
 
 #include <fmt/format.h>
 
@@ -40,6 +41,10 @@ void warn_if_reference_is_empty(const RenderOptions& options, const FrameResult&
              options.scene, options.frame, presence.describe(), kEmptyCausticHint);
 }
 
+// The render and its files, into folders that exist.
+static void render_and_write(const RenderOptions& options, const Scene& scene, const RenderRequest& request,
+                             const CheckedRequest& checked);
+
 int run_render(const RenderOptions& options) {
   // Everything is checked before any work starts.
   Scene scene = load_scene(options.scene);
@@ -54,11 +59,41 @@ int run_render(const RenderOptions& options) {
   request.frame = options.frame;
   request.dump_folder = options.dump_frame;
   request.build_cache = options.build_cache;
-  for (const std::string& assignment : options.assignments) request.params.set_assignment(assignment, "--set");
+  std::map<std::string, std::string> given;  // knob -> its --set, so that a repeated one is refused
+  for (const std::string& assignment : options.assignments) {
+    // The last of two would win silently: a slip in a long command line must not pass unnoticed.
+    const std::string knob = assignment.substr(0, assignment.find('='));
+    if (auto [previous, added] = given.emplace(knob, assignment); !added) {
+      throw InputError(fmt::format("--set: expected each knob once, found '{}' twice ('{}' and '{}')", knob,
+                                   previous->second, assignment));
+    }
+    request.params.set_assignment(assignment, "--set");
+  }
   CheckedRequest checked = check_request(request);
-  ensure_folder(options.out);
-  if (!options.dump_frame.empty()) ensure_folder(options.dump_frame);
+  namespace fs = std::filesystem;
+  // Made now so that an unwritable --out stops before the render; removed again if the render fails
+  // before anything is written into it, so that a failure leaves no empty folder behind.
+  std::vector<std::string> created;
+  for (const std::string& folder : {options.out, options.dump_frame}) {
+    if (folder.empty()) continue;
+    bool existed = fs::exists(folder);
+    ensure_folder(folder);  // also refuses a file of that name
+    if (!existed) created.push_back(folder);
+  }
+  try {
+    render_and_write(options, scene, request, checked);
+  } catch (...) {
+    std::error_code ignored;
+    for (const std::string& folder : created) {
+      if (fs::is_empty(folder, ignored)) fs::remove(folder, ignored);
+    }
+    throw;
+  }
+  return 0;
+}
 
+static void render_and_write(const RenderOptions& options, const Scene& scene, const RenderRequest& request,
+                             const CheckedRequest& checked) {
   ThreadLimit limit(options.threads);
   fmt::print(stderr, "rendering {} with {} at {}x{}, frame {}\n", options.scene, options.method, scene.camera.width,
              scene.camera.height, options.frame);
@@ -110,7 +145,6 @@ int run_render(const RenderOptions& options) {
   write_text_atomically((fs::path(out) / "record.json").string(), record.dump(2) + "\n");
   warn_if_reference_is_empty(options, result, direct);
   fmt::print("wrote {}/caustic.exr, direct.exr, gbuffer.exr, composite.png, caustic.png, record.json\n", out);
-  return 0;
 }
 
 }  // namespace causticbench

@@ -266,9 +266,25 @@ size_t remove_stale_partial_files(const std::string& folder, bool folder_is_lock
 }
 
 std::string read_text(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError(fmt::format("{}: file not found", path));
+  std::error_code error;
+  fs::file_status status = fs::status(path, error);
+  if (!fs::exists(status)) throw InputError(fmt::format("{}: file not found", path));
+  // Only a regular file: a FIFO would block the read forever, /dev/zero would never end.
+  if (!fs::is_regular_file(status)) {
+    std::string kind = fs::is_directory(status) ? "a folder"
+                       : fs::is_fifo(status)    ? "a FIFO (named pipe)"
+                       : fs::is_character_file(status) || fs::is_block_file(status) ? "a device"
+                                                                                     : "a socket or other special file";
+    throw InputError(fmt::format("{}: expected a regular file (a scene or experiment), found {}", path, kind));
+  }
+  uintmax_t size = fs::file_size(path, error);
+  if (!error && size > kMaximumConfigurationBytes) {
+    throw InputError(fmt::format("{}: expected a configuration file of at most {} MiB (meshes and maps belong in "
+                                 "asset files), found {:.1f} MiB",
+                                 path, kMaximumConfigurationBytes >> 20, size / 1048576.0));
+  }
   std::ifstream stream(path, std::ios::binary);
-  if (!stream) throw InputError(fmt::format("{}: cannot open file for reading", path));
+  if (!stream) throw InputError(fmt::format("{}: cannot open file for reading: {}", path, os_error_text(errno)));
   std::stringstream buffer;
   buffer << stream.rdbuf();
   return buffer.str();

@@ -18,6 +18,7 @@
 // Unset (the normal case) it costs one getenv per write.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -68,7 +69,12 @@ InjectedFault next_write_step(const std::string& description);
 // Whether CAUSTICBENCH_FAULT_INJECT holds `option` (e.g. "no_rename_exchange").
 bool fault_injection_option(const std::string& option);
 
-// The whole file; InputError naming it when it does not exist or cannot be read.
+// The largest scene or experiment file read_text() accepts. A YAML node costs a few hundred bytes in
+// memory, so this bounds what parsing can take (to about 1 GB) and keeps a mistaken file (a log, a
+// 50 MB list) from exhausting memory before any check can run.
+constexpr uintmax_t kMaximumConfigurationBytes = 4u << 20;
+// The whole text of a configuration file; InputError naming it when it does not exist, is not a regular
+// file (a FIFO, a device, a folder), is larger than kMaximumConfigurationBytes or cannot be read.
 std::string read_text(const std::string& path);
 // Creates the folder (and parents); throws InputError if it exists as a file or cannot be created.
 void ensure_folder(const std::string& path);

@@ -1,24 +1,33 @@
 #include "core/image.h"
 
+#include <cerrno>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
+
+#include "core/files.h"
 
 namespace causticbench {
 
 namespace {
 
-void write_with_oiio(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* data) {
-  std::string temporary = path + ".partial" + std::filesystem::path(path).extension().string();
-  auto output = OIIO::ImageOutput::create(path);
-  if (!output) throw std::runtime_error(fmt::format("{}: no image writer: {}", path, OIIO::geterror()));
-  if (!output->open(temporary, spec) || !output->write_image(type, data)) {
-    throw std::runtime_error(fmt::format("{}: cannot write image: {}", path, output->geterror()));
+// The file of an image as OpenImageIO writes it for `format_name` ("image.exr", "image.png"), in memory.
+std::string encode_with_oiio(const std::string& format_name, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
+                             const void* data) {
+  std::vector<unsigned char> buffer;
+  OIIO::Filesystem::IOVecOutput output_proxy(buffer);
+  auto output = OIIO::ImageOutput::create(format_name);
+  if (!output) throw std::runtime_error(fmt::format("no image writer for {}: {}", format_name, OIIO::geterror()));
+  output->set_ioproxy(&output_proxy);
+  if (!output->open(format_name, spec) || !output->write_image(type, data) || !output->close()) {
+    throw std::runtime_error(fmt::format("cannot encode {}: {}", format_name, output->geterror()));
   }
-  output->close();
-  std::filesystem::rename(temporary, path);
+  return std::string(buffer.begin(), buffer.end());
 }
 
 float linear_to_srgb(float value) {
@@ -28,25 +37,38 @@ float linear_to_srgb(float value) {
 
 }  // namespace
 
-void write_exr(const Image& image, const std::string& path, const std::vector<std::string>& channel_names) {
+std::string encode_exr(const Image& image, const std::vector<std::string>& channel_names) {
   OIIO::ImageSpec spec(image.width(), image.height(), image.channels(), OIIO::TypeDesc::FLOAT);
   if (!channel_names.empty()) spec.channelnames = channel_names;
   spec.attribute("compression", "zip");
   // OpenImageIO's EXR writer stamps the time of writing into the capDate header unless DateTime is
   // set; set empty, capDate is written empty, so that the same pixels always give the same file.
   spec.attribute("DateTime", "");
-  write_with_oiio(path, spec, OIIO::TypeDesc::FLOAT, image.data());
+  return encode_with_oiio("image.exr", spec, OIIO::TypeDesc::FLOAT, image.data());
 }
 
-Image read_exr(const std::string& path) {
-  auto input = OIIO::ImageInput::open(path);
-  if (!input) throw std::runtime_error(fmt::format("{}: cannot open image: {}", path, OIIO::geterror()));
+Image decode_exr(const std::string& bytes, const std::string& path) {
+  OIIO::Filesystem::IOMemReader input_proxy(bytes.data(), bytes.size());
+  auto input = OIIO::ImageInput::open("image.exr", nullptr, &input_proxy);
+  if (!input) throw std::runtime_error(fmt::format("{}: not a readable EXR image: {}", path, OIIO::geterror()));
   const OIIO::ImageSpec& spec = input->spec();
   Image image(spec.width, spec.height, spec.nchannels);
   if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data())) {
-    throw std::runtime_error(fmt::format("{}: cannot read image: {}", path, input->geterror()));
+    throw std::runtime_error(fmt::format("{}: cannot read the EXR image: {}", path, input->geterror()));
   }
   return image;
+}
+
+void write_exr(const Image& image, const std::string& path, const std::vector<std::string>& channel_names) {
+  write_file_atomically(path, encode_exr(image, channel_names));
+}
+
+Image read_exr(const std::string& path) {
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream) throw std::runtime_error(fmt::format("{}: cannot open image: {}", path, os_error_text(errno)));
+  std::stringstream bytes;
+  bytes << stream.rdbuf();
+  return decode_exr(bytes.str(), path);
 }
 
 void write_png(const Image& image, const std::string& path, float exposure) {
@@ -59,7 +81,7 @@ void write_png(const Image& image, const std::string& path, float exposure) {
     }
   }
   OIIO::ImageSpec spec(image.width(), image.height(), 3, OIIO::TypeDesc::UINT8);
-  write_with_oiio(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
+  write_file_atomically(path, encode_with_oiio("image.png", spec, OIIO::TypeDesc::UINT8, bytes.data()));
 }
 
 }  // namespace causticbench

@@ -42,11 +42,17 @@ class Image {
   std::vector<float> pixels_;
 };
 
-// Writes through a temporary file and a rename, so that a reader never sees half an image.
-// channel_names may be empty (R, G, B, A...). Throws std::runtime_error on failure.
+// channel_names may be empty (R, G, B, A...).
+// EXR files: zip compression and no date in the header, so that the same pixels always give the same
+// bytes (encode_exr is what write_exr writes, and what the results store checksums).
+std::string encode_exr(const Image& image, const std::vector<std::string>& channel_names = {});
+// std::runtime_error naming `path` when `bytes` is not a readable EXR image (truncated, damaged).
+Image decode_exr(const std::string& bytes, const std::string& path);
+// Written atomically (core/files.h): WriteError naming the file and the OS error, nothing half written.
 void write_exr(const Image& image, const std::string& path, const std::vector<std::string>& channel_names = {});
 Image read_exr(const std::string& path);
-// 8-bit sRGB PNG of a linear image after tone mapping: exposure scaling then clamping.
+// 8-bit sRGB PNG of a linear image after tone mapping: exposure scaling then clamping. Written
+// atomically, as write_exr.
 void write_png(const Image& image, const std::string& path, float exposure = 1.0f);
 
 }  // namespace causticbench

@@ -27,7 +27,14 @@ EnvironmentMap::EnvironmentMap(const std::string& path, double scale, double rot
       size_t index = static_cast<size_t>(y) * width_ + x;
       for (int c = 0; c < 3; ++c) {
         float value = raw[index * channels + std::min(c, channels - 1)];
-        if (!std::isfinite(value) || value < 0.0f) value = 0.0f;
+        // A NaN or an infinity is a broken map, not something to paint black silently (it would change
+        // the light's power unnoticed). Small negative texels are the ringing of filtered HDR maps
+        // (Blender's forest.exr has them, -4e-6): radiance cannot be negative, so they count as 0.
+        if (!std::isfinite(value)) {
+          throw InputError(fmt::format("{}: texel ({}, {}) channel {} is {}: expected finite radiance", path, x, y, c,
+                                       value));
+        }
+        value = std::max(value, 0.0f);
         pixels_[index * 3 + c] = value * static_cast<float>(scale);
       }
       weights[index] = luminance(texel(x, y)) * sin_theta;
@@ -202,7 +209,13 @@ Light read_light(const ConfigNode& node, const std::string& scene_folder) {
                                        node.location_of("image"));
       light.scale = node.number_or("scale", 1.0, 0.0, 1e9);
       light.rotation_degrees = node.number_or("rotation_degrees", 0.0, -360.0, 360.0);
-      light.environment = std::make_shared<EnvironmentMap>(light.image_path, light.scale, light.rotation_degrees);
+      try {
+        light.environment = std::make_shared<EnvironmentMap>(light.image_path, light.scale, light.rotation_degrees);
+      } catch (const InputError& error) {
+        // The decoder's message names the image; the scene's line says which light asked for it.
+        throw_input_error(node.location_of("image"), node.path() + ".image",
+                          "a readable HDR environment map with finite texels", error.what());
+      }
     } else {
       node.choice("procedural", {"gaussian_spot"});
       light.kind = LightKind::gaussian_spot;

@@ -500,6 +500,10 @@ Experiment load_experiment(const std::string& path) {
                                        {"reference", experiment.reference_params.to_json()}});
   }
 
+  // Counted before anything is expanded: a run costs a few kilobytes to resolve and hash, so a
+  // mistaken sweep product (10^6, 10^9 runs) must be refused with its count, not exhaust memory.
+  const int64_t max_runs = root.integer_or("max_runs", kDefaultMaximumRuns, 1, kLargestMaximumRuns);
+  double counted_runs = 0.0;
   ConfigNode methods = root.child("methods");
   if (methods.size() == 0) methods.fail_here("at least one method entry", "an empty list");
   std::set<std::string> seen;
@@ -540,6 +544,22 @@ Experiment load_experiment(const std::string& path) {
       }
     }
     entry.finish();
+    double entry_runs = static_cast<double>(zip.empty() ? 1 : zip.front().second.size()) * experiment.variants.size();
+    std::string product = fmt::format("{}", zip.empty() ? 1 : zip.front().second.size());
+    for (const auto& [name, values] : sweep) {
+      entry_runs *= static_cast<double>(values.size());
+      product += fmt::format(" x {} ({})", values.size(), name);
+    }
+    counted_runs += entry_runs;
+    if (counted_runs > static_cast<double>(max_runs)) {
+      throw_input_error(entry.has("sweep") ? entry.location_of("sweep") : entry.location(), entry.path(),
+                        fmt::format("at most max_runs = {} runs in the experiment (set `max_runs`, up to {}, to allow "
+                                    "more)", max_runs, kLargestMaximumRuns),
+                        fmt::format("{:.0f} runs up to this entry, {:.0f} of them here: {}{}", counted_runs, entry_runs,
+                                    product, experiment.variants.size() > 1
+                                                 ? fmt::format(" x {} variants", experiment.variants.size())
+                                                 : ""));
+    }
     // The knobs do not depend on the variant: resolve them once, then run them on every variant.
     std::vector<std::pair<RunSpec, std::string>> resolved;  // knobs, swept text
     std::set<std::string> applied;  // swept knobs that apply in at least one combination

@@ -65,6 +65,13 @@ struct Experiment {
   nlohmann::json to_json() const;
 };
 
+// An experiment expands to at most `max_runs` runs (default kDefaultMaximumRuns, at most
+// kLargestMaximumRuns): the count is taken before expanding, and a larger sweep is refused with it.
+// Validation costs about 5 KB and 70 us per run: 20,000 runs validate in 1.6 s at a peak resident
+// size of 230 MB (140 MB of it the process itself), where 10^6 took 47 s and 5.3 GB.
+constexpr int64_t kDefaultMaximumRuns = 20000;
+constexpr int64_t kLargestMaximumRuns = 2000000;
+
 // Reads, validates and expands an experiment file. Every defect is an InputError with file, line and
 // column, raised before any work starts.
 Experiment load_experiment(const std::string& path);

@@ -1,15 +1,43 @@
 #include "experiments/result_store.h"
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <filesystem>
 
 #include <fmt/format.h>
 
+#include "core/errors.h"
 #include "core/files.h"
 #include "core/hash.h"
 #include "experiments/record_check.h"
 #include "experiments/store_files.h"
 
 namespace causticbench {
+
+void check_results_folder(const std::string& path) {
+  namespace fs = std::filesystem;
+  auto refuse = [&](const std::string& found) {
+    throw InputError(fmt::format("--results: expected a folder to write results into, found {}", found));
+  };
+  // The folder itself, or else its nearest existing ancestor, which must then be a writable folder.
+  fs::path existing = fs::absolute(fs::path(path));
+  while (true) {
+    std::error_code error;
+    fs::file_status status = fs::status(existing, error);
+    if (error && error.value() != ENOENT) refuse(fmt::format("'{}': {}", existing.string(), os_error_text(error.value())));
+    if (fs::exists(status)) {
+      // (A file above the folder is ENOTDIR above; a file here is the folder itself.)
+      if (!fs::is_directory(status)) refuse(fmt::format("'{}', which is a file", path));
+      if (::access(existing.c_str(), W_OK | X_OK) != 0) {
+        refuse(fmt::format("'{}', where '{}' cannot be written: {}", path, existing.string(), os_error_text(errno)));
+      }
+      return;
+    }
+    if (!existing.has_parent_path() || existing.parent_path() == existing) return;
+    existing = existing.parent_path();
+  }
+}
 
 namespace fs = std::filesystem;
 

@@ -16,6 +16,11 @@
 
 namespace causticbench {
 
+// --results names a folder this process can write, or one it can create: checked before any work, so
+// that a file of that name, a symbolic-link loop or a read-only parent is an input error (exit code 2)
+// naming the path and the system's reason, not an internal error after the reference was computed.
+void check_results_folder(const std::string& path);
+
 struct ResultPaths {
   std::string results;  // the results root, e.g. "results"
 

@@ -153,6 +153,7 @@ RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, const C
     frames.push_back({{"frame", frame}, {"image", file}, {"update_ms", timings.update_ms}, {"render_ms", timings.render_ms},
                       {"metrics", values.values}});
     if (!values.undefined.empty()) frames.back()["metrics_undefined"] = values.undefined;
+    if (!values.parameters.empty()) frames.back()["metric_parameters"] = values.parameters;
     if (!timings.gpu_render_ms.empty()) frames.back()["gpu_render_ms"] = timings.gpu_render_ms;
     if (flicker) {
       test_sequence.push_back(image);

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -17,6 +18,7 @@
 #include "experiments/store_files.h"
 #include "experiments/store_lock.h"
 #include "methods/lifecycle.h"
+#include "methods/memory_estimate.h"
 #include "methods/method_runner.h"
 #include "methods/registry.h"
 
@@ -248,6 +250,22 @@ class RunExecutor {
   const std::vector<FramePresence> scored_;  // no frame with an empty reference
 };
 
+// Each pending run's frame, and the reference of its variant, must fit in this machine's memory: a
+// variant at 16384x16384 is refused with the estimate before any reference or run starts.
+void check_memory(const Experiment& experiment, const std::vector<PendingRun>& pending) {
+  std::set<std::pair<size_t, std::string>> checked;  // (variant, method)
+  for (const PendingRun& entry : pending) {
+    for (const std::string& method : {std::string("reference"), entry.run->method}) {
+      if (!checked.insert({entry.run->variant, method}).second) continue;
+      const SceneVariant& variant = experiment.variants.at(entry.run->variant);
+      const Camera& camera = variant.scene.camera;
+      check_memory_fits(estimate_frame_memory(camera.width, camera.height, find_method(method).info()),
+                        fmt::format("{}: variant {} with {} at {}x{}", experiment.source, variant.name, method,
+                                    camera.width, camera.height));
+    }
+  }
+}
+
 std::vector<const RunSpec*> specs(const std::vector<PendingRun>& pending) {
   std::vector<const RunSpec*> result;
   for (const PendingRun& entry : pending) result.push_back(entry.run);
@@ -274,6 +292,7 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& option
 
   // Every reference is computed (or loaded) and checked before any run starts, and before anything is
   // written into the experiment's folder: an empty reference stops here with nothing of it changed.
+  check_memory(experiment, selection.pending);
   ReferenceCheck references = check_references(experiment, specs(selection.pending), paths);
   std::vector<size_t> checked_variants;
   for (const PendingRun& entry : selection.pending) checked_variants.push_back(entry.run->variant);

@@ -1,4 +1,4 @@
-// The files of the results store as bytes: EXR images encoded in memory, so that the checksum a record
+// The files of the results store as bytes: EXR images encoded in memory (core/image.h), so that the checksum a record
 // keeps is of exactly the bytes that core/files.h's write_file_atomically() writes (and reports the OS
 // error of); checksums; reading back. A stored image is read once into memory, checked against its
 // checksum, and decoded from those same bytes: a file replaced between the check and the read cannot
@@ -15,12 +15,6 @@
 #include "core/image.h"
 
 namespace causticbench {
-
-// The EXR file of `image` as write_exr() writes it (zip compression, no date in the header, so that the
-// same pixels always give the same bytes).
-std::string encode_exr(const Image& image, const std::vector<std::string>& channel_names = {});
-// std::runtime_error naming `path` when `bytes` is not a readable EXR image (truncated, damaged).
-Image decode_exr(const std::string& bytes, const std::string& path);
 
 // {"bytes": size, "xxhash": "<16 hex digits>"}: how records name the content of a file they refer to.
 nlohmann::json content_checksum(std::string_view bytes);

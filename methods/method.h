@@ -57,6 +57,9 @@ struct MethodInfo {
   // Knobs ("name=value") that make a run cheap enough for the conformance tests on tiny scenes
   // (tests/test_conformance.cpp): few photons, few samples.
   std::vector<std::string> quick_knobs;
+  // The method's own memory per frame pixel beyond what every frame holds, for the estimate checked
+  // before any work starts (methods/memory_estimate.h): measured, not derived.
+  double working_bytes_per_pixel = 0.0;
 };
 
 using Counters = std::vector<std::pair<std::string, double>>;

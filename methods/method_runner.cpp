@@ -9,6 +9,7 @@
 
 #include "core/direct_lighting.h"
 #include "core/parallel.h"
+#include "methods/memory_estimate.h"
 
 namespace causticbench {
 
@@ -31,6 +32,9 @@ CheckedRequest check_request(const RenderRequest& request) {
                                  join(able, ", "), info.name));
   }
   checked.method->create()->check_scene(*request.scene);
+  const Camera& camera = request.scene->camera;
+  check_memory_fits(estimate_frame_memory(camera.width, camera.height, info),
+                    fmt::format("{} with {} at {}x{}", request.scene->source, info.name, camera.width, camera.height));
   return checked;
 }
 

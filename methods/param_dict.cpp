@@ -3,6 +3,7 @@
 #include <cmath>
 #include <algorithm>
 #include <cstdlib>
+#include <regex>
 
 #include <fmt/format.h>
 
@@ -171,9 +172,11 @@ ParamSet ParamDict::resolve(const std::vector<ParamSpec>& specs, const std::stri
       }
       case ParamType::integer:
       case ParamType::real: {
-        char* end = nullptr;
-        double number = std::strtod(text.c_str(), &end);
-        if (text.empty() || end != text.c_str() + text.size()) fail(spec.type == ParamType::integer ? "an integer" : "a number");
+        // Decimal only, as the YAML reader reads numbers: strtod alone would also take hex ("0x10"),
+        // leading blanks and "infinity", so that --set and a YAML file would disagree on what is a number.
+        static const std::regex decimal(R"([+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?)");
+        if (!std::regex_match(text, decimal)) fail(spec.type == ParamType::integer ? "an integer" : "a decimal number");
+        double number = std::strtod(text.c_str(), nullptr);
         if (!std::isfinite(number)) fail("a finite number");
         if (number < spec.min_value || number > spec.max_value) fail(fmt::format("a value in {}", spec.range_text()));
         if (spec.type == ParamType::integer) {

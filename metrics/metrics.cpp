@@ -14,6 +14,7 @@
 
 #include "core/errors.h"
 #include "core/image_statistics.h"
+#include "metrics/flip.h"
 
 namespace causticbench {
 
@@ -174,9 +175,30 @@ MetricValue ssim(const Image& test, const Image& reference, const FrameSums& sum
   return defined(masked_ssim(test, reference, sums.valid, peak));
 }
 
-MetricValue frame_metric(const std::string& name, const Image& test, const Image& reference, const FrameSums& sums) {
+// HDR-FLIP over the mask; the exposures it chose go into `parameters`, since the value depends on them.
+MetricValue flip(const Image& test, const Image& reference, const std::vector<uint8_t>& mask,
+                 std::map<std::string, double>& parameters) {
+  const FlipOptions options;
+  CausticFlip result = caustic_flip(test, reference, mask, options);
+  if (!result.defined()) return undefined(result.undefined_reason);
+  parameters = {{"pixels_per_degree", options.pixels_per_degree},
+                {"start_exposure", result.exposures.start},
+                {"stop_exposure", result.exposures.stop},
+                {"exposures", result.exposures.count}};
+  return defined(result.mean);
+}
+
+MetricValue frame_metric(const std::string& name, const Image& test, const Image& reference,
+                         const std::vector<uint8_t>& mask, const FrameSums& sums,
+                         std::map<std::string, std::map<std::string, double>>& parameters) {
   if (name == "nonfinite_pixels") return defined(static_cast<double>(sums.nonfinite_pixels));
   if (sums.count == 0) return undefined(kNoValidPixel);
+  if (name == "flip") {
+    std::map<std::string, double> used;
+    MetricValue value = flip(test, reference, mask, used);
+    if (value.value) parameters[name] = used;
+    return value;
+  }
   const double mse = sums.squared_error / (3.0 * static_cast<double>(sums.count));
   if (name == "mse") return defined(mse);
   if (name == "rmse") return defined(std::sqrt(mse));
@@ -213,6 +235,10 @@ const std::vector<MetricInfo>& metric_registry() {
        true},
       {"max_error", false, std::nullopt, "W/m^2",
        "largest |test - reference| over masked finite pixels and RGB channels", true},
+      {"flip", false, std::nullopt, "",
+       "mean over masked finite pixels of the HDR-FLIP map (NVIDIA FLIP v1.6, ACES, 67 ppd), exposures from the "
+       "reference's masked max and lit median luminance; undefined when that max is 0",
+       true},
       {"temporal_flicker", false, std::nullopt, "",
        "mean over frames t>=1 of masked mean |(test_t - test_t-1) - (reference_t - reference_t-1)|, divided by "
        "the reference's masked mean over all frames; undefined when that mean is 0",
@@ -255,7 +281,7 @@ MetricValues compute_metrics(const Image& test, const Image& reference, const st
   MetricValues result;
   result.nonfinite_pixels = sums.nonfinite_pixels;
   for (const std::string& name : names) {
-    MetricValue value = frame_metric(name, test, reference, sums);
+    MetricValue value = frame_metric(name, test, reference, mask, sums, result.parameters);
     if (value.value)
       result.values[name] = *value.value;
     else

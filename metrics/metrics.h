@@ -15,7 +15,7 @@
 namespace causticbench {
 
 struct MetricInfo {
-  std::string name;              // "mse", "rmse", "psnr", "ssim", "relmse", "energy_ratio", "max_error",
+  std::string name;              // "mse", "rmse", "psnr", "ssim", "relmse", "energy_ratio", "max_error", "flip",
                                  // "temporal_flicker", "nonfinite_pixels"
   bool higher_is_better = false;  // meaningful only when target is empty
   std::optional<double> target;  // the ideal value when best means "closest to it" (energy_ratio: 1)
@@ -46,13 +46,18 @@ struct MetricValues {
   std::map<std::string, double> values;          // the defined metrics, always with nonfinite_pixels
   std::map<std::string, std::string> undefined;  // metric name -> why it has no value
   size_t nonfinite_pixels = 0;  // masked test pixels with a NaN or infinite channel
+  // The settings a defined value depends on, for the metrics that have any, to store beside the value:
+  // "flip" -> pixels_per_degree, start_exposure, stop_exposure, exposures (HDR-FLIP with ACES).
+  std::map<std::string, std::map<std::string, double>> parameters;
 };
 
 // Computes the named per-frame metrics of `test` against `reference` over `mask` (one byte per pixel,
 // non-zero = counts). Only the first three channels (RGB) are used. Non-finite test pixels are counted
 // in nonfinite_pixels (always also stored as values["nonfinite_pixels"]) and EXCLUDED from every other
-// metric, exactly as if they were outside the mask. Each requested name lands in exactly one of
-// `values` and `undefined`; if no masked pixel is finite, every other metric is undefined. Throws
+// metric, exactly as if they were outside the mask; flip, which filters the image, first sets them to 0 in
+// the test image (so NaN cannot spread), then leaves them out of its mean (metrics/flip.h, caustic_flip()).
+// Each requested name lands in exactly one of `values` and `undefined`; if no masked pixel is finite, every
+// other metric is undefined. Throws
 // InputError for an unknown or non-per-frame name (temporal_flicker), and std::invalid_argument for
 // mismatched sizes or a non-finite reference value inside the mask.
 MetricValues compute_metrics(const Image& test, const Image& reference, const std::vector<uint8_t>& mask,

@@ -400,7 +400,7 @@ TEST(Metrics, RegistryDirectionsAndComparison) {
     EXPECT_EQ(metric.target.has_value(), metric.name == "energy_ratio") << metric.name;
   }
   EXPECT_EQ(names, (std::vector<std::string>{"mse", "rmse", "psnr", "ssim", "relmse", "energy_ratio", "max_error",
-                                             "temporal_flicker", "nonfinite_pixels"}));
+                                             "flip", "temporal_flicker", "nonfinite_pixels"}));
 }
 
 TEST(Metrics, UnknownNamesSuggestTheClosest) {

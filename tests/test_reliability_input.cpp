@@ -3,12 +3,16 @@
 // that select nothing, negative thread counts, repeated frames, empty metric lists, and EXR files that
 // differ only in their date. Each is an input error naming file, line, key, expected and found; on the
 // command line, exit code 2 with nothing written.
+#include <sys/stat.h>
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <thread>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "core/camera.h"
@@ -279,4 +283,179 @@ TEST(ReliabilityImages, SamePixelsGiveTheSameExrFile) {
   size_t at = first_bytes.find(attribute);
   ASSERT_NE(at, std::string::npos);
   EXPECT_EQ(first_bytes.substr(at + attribute.size(), 4), std::string(4, '\0'));
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Bounded work before any check: sweeps, file sizes, FIFOs and devices, memory.
+
+// The limit counts exactly: max_runs runs pass, one more is refused (a 2 x 2 sweep on two variants: 8).
+TEST(ReliabilityLimits, MaxRunsCountsEveryCombinationOnEveryVariant) {
+  TemporaryFolder folder("max_runs");
+  auto experiment = [&](int max_runs) {
+    return folder.write("sweep.yaml", fmt::format("max_runs: {}\nscene: {}\nvariants: [{{resolution: [8, 8]}}, "
+                                                  "{{resolution: [16, 16]}}]\nmethods:\n  - method: photon_map\n"
+                                                  "    sweep: {{photons: [1000, 2000], k: [10, 20]}}\n",
+                                                  max_runs, (kCorpus / "scene.yaml").string()));
+  };
+  EXPECT_EQ(input_error_message([&] { EXPECT_EQ(load_experiment(experiment(8)).runs.size(), 8u); }), "no error");
+  std::string message = input_error_message([&] { load_experiment(experiment(7)); });
+  EXPECT_NE(message.find("at most max_runs = 7 runs"), std::string::npos) << message;
+  EXPECT_NE(message.find("found 8 runs up to this entry, 8 of them here: 1 x 2 (photons) x 2 (k) x 2 variants"),
+            std::string::npos)
+      << message;
+}
+
+// A FIFO as a scene blocked the read forever; /dev/zero never ended; a huge file exhausted memory.
+TEST(ReliabilityLimits, OnlyRegularFilesOfBoundedSizeAreRead) {
+  TemporaryFolder folder("special_files");
+  const std::string fifo = folder.path("scene_fifo.yaml").string();
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  std::string output;
+  // `timeout` turns a regression (a blocked read) into a failure instead of a hung test.
+  int code = run_command("timeout 20 " + std::string(CAUSTICBENCH_BINARY) + " --quiet validate " + fifo, output);
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_NE(output.find("scene_fifo.yaml: expected a regular file (a scene or experiment), found a FIFO"),
+            std::string::npos)
+      << output;
+  code = run_command("timeout 20 " + std::string(CAUSTICBENCH_BINARY) + " --quiet validate /dev/zero", output);
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_NE(output.find("/dev/zero: expected a regular file (a scene or experiment), found a device"),
+            std::string::npos)
+      << output;
+  const std::string large = folder.write("large.yaml", "sweep: [" + std::string(kMaximumConfigurationBytes, ' ') + "]\n");
+  std::string message = input_error_message([&] { load_experiment(large); });
+  EXPECT_NE(message.find("large.yaml: expected a configuration file of at most 4 MiB"), std::string::npos) << message;
+  EXPECT_NE(message.find("found 4.0 MiB"), std::string::npos) << message;
+}
+
+// --set took hex that the YAML reader refuses, and kept the last of a repeated knob without a word.
+TEST(ReliabilityLimits, SetTakesDecimalNumbersAndEachKnobOnce) {
+  TemporaryFolder folder("set");
+  const std::string scene = shell_quoted(kCorpus / "scene.yaml"), out = shell_quoted(folder.path("out"));
+  struct Case {
+    std::string arguments, expected;
+  };
+  for (const Case& item : {Case{"--set photons=0x10", "key 'photon_map.photons': expected an integer, found '0x10'"},
+                           Case{"--set max_radius=' 0.1'", "expected a decimal number, found ' 0.1'"},
+                           Case{"--set max_radius=infinity", "expected a decimal number, found 'infinity'"},
+                           Case{"--set photons=1000 --set photons=2000",
+                                "--set: expected each knob once, found 'photons' twice ('photons=1000' and "
+                                "'photons=2000')"}}) {
+    std::string output;
+    int code = causticbench_command("render " + scene + " --method photon_map " + item.arguments + " --out " + out, output);
+    EXPECT_EQ(code, 2) << item.arguments << ": " << output;
+    EXPECT_NE(output.find(item.expected), std::string::npos) << item.arguments << ": " << output;
+    EXPECT_FALSE(fs::exists(folder.path("out"))) << output;
+  }
+  // What is still a number: signs, a leading point, exponents.
+  std::string output;
+  EXPECT_EQ(causticbench_command("render " + scene + " --method photon_map --set photons=+1e3 --set max_radius=.5 " +
+                                     "--set cone_filter_k=1.5E0 --out " + out, output),
+            0)
+      << output;
+}
+
+// An environment map that cannot be decoded, or holds a NaN, is blamed on the scene line that names it.
+TEST(ReliabilityLimits, EnvironmentMapDefectsNameTheSceneLine) {
+  TemporaryFolder folder("environment_map");
+  Image map(4, 2, 3);
+  for (size_t pixel = 0; pixel < map.pixel_count(); ++pixel) map.at(pixel, 0) = 1.0f;
+  map.at(1, 2) = std::numeric_limits<float>::quiet_NaN();
+  write_exr(map, folder.path("nan.exr").string());
+  std::ofstream(folder.path("truncated.exr")) << read_text(folder.path("nan.exr").string()).substr(0, 40);
+  for (std::string image : {"nan.exr", "truncated.exr"}) {
+    std::string scene = folder.write("scene.yaml", "camera: {position: [0, 2, 3], look_at: [0, 0, 0], resolution: [8, 8]}\n"
+                                                   "lights:\n  - {type: environment, image: " + image +
+                                                       "}\nobjects:\n  - shape: {type: quad, size: [4, 4]}\n"
+                                                       "    material: {type: diffuse, albedo: 0.5}\n");
+    std::string message = input_error_message([&] { load_scene(scene); });
+    EXPECT_NE(message.find("scene.yaml:3:25: key 'lights[0].image': expected a readable HDR environment map with "
+                           "finite texels"),
+              std::string::npos)
+        << message;
+    if (image == "nan.exr") {
+      EXPECT_NE(message.find("texel (1, 0) channel 2 is nan"), std::string::npos) << message;
+    }
+  }
+}
+
+// A frame that cannot fit in memory is refused with the estimate before any work, for render and run.
+TEST(ReliabilityLimits, FramesThatCannotFitInMemoryAreRefusedBeforeAnyWork) {
+  TemporaryFolder folder("memory");
+  const std::string limit = "CAUSTICBENCH_AVAILABLE_MEMORY=300000000 ";  // 286 MiB: the process base and a bit
+  std::string output;
+  fs::path out = folder.path("out");
+  int code = run_command(limit + CAUSTICBENCH_BINARY + " --quiet render " + shell_quoted(kCorpus / "scene.yaml") +
+                             " --method photon_map -r 2048x2048 --out " + shell_quoted(out), output);
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_NE(output.find("with photon_map at 2048x2048: expected a frame that fits in the available memory (0.3 GiB)"),
+            std::string::npos)
+      << output;
+  EXPECT_NE(output.find("2048x2048 = 4194304 pixels x ("), std::string::npos) << output;
+  EXPECT_FALSE(fs::exists(out)) << output;
+  // The same frame size fits once the machine has the memory.
+  EXPECT_EQ(run_command("CAUSTICBENCH_AVAILABLE_MEMORY=1e12 " + std::string(CAUSTICBENCH_BINARY) + " --quiet render " +
+                            shell_quoted(kCorpus / "scene.yaml") + " --method photon_map --set photons=1000 -r 64x64 --out " +
+                            shell_quoted(out), output),
+            0)
+      << output;
+  std::string experiment = folder.write("large.yaml", "name: large\nscene: " + (kCorpus / "scene.yaml").string() +
+                                                          "\noverrides: {resolution: [4096, 4096]}\nrepetitions: 1\n"
+                                                          "methods:\n  - method: photon_map\n");
+  fs::path results = folder.path("results");
+  code = run_command(limit + CAUSTICBENCH_BINARY + " --quiet run " + experiment + " --results " + shell_quoted(results), output);
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_NE(output.find("large.yaml: variant default with reference at 4096x4096: expected a frame that fits"),
+            std::string::npos)
+      << output;
+  EXPECT_FALSE(fs::exists(results)) << output;
+}
+
+// A write the environment makes fail (a full disk) is an error of its own, not an "internal error".
+TEST(ReliabilityLimits, AFailedWriteNamesTheFileAndTheSystemError) {
+  TemporaryFolder folder("write_error");
+  fs::path out = folder.path("out");
+  std::string output;
+  int code = run_command("CAUSTICBENCH_FAULT_INJECT=fail@caustic.exr " + std::string(CAUSTICBENCH_BINARY) +
+                             " --quiet render " + shell_quoted(kCorpus / "scene.yaml") +
+                             " --method photon_map --set photons=1000 --out " + shell_quoted(out), output);
+  EXPECT_EQ(code, 1) << output;
+  EXPECT_NE(output.find("error: cannot write " + (out / "caustic.exr").string()), std::string::npos) << output;
+  EXPECT_NE(output.find("No space left on device (ENOSPC)"), std::string::npos) << output;
+  EXPECT_EQ(output.find("internal error"), std::string::npos) << output;
+  // Nothing was written, so the folder the render made is gone too (no temporary file, no empty folder).
+  EXPECT_FALSE(fs::exists(out)) << output;
+  // Into a folder that existed, a later file's failure keeps what was written and no temporary file.
+  fs::create_directories(out);
+  code = run_command("CAUSTICBENCH_FAULT_INJECT=fail@composite.png " + std::string(CAUSTICBENCH_BINARY) +
+                         " --quiet render " + shell_quoted(kCorpus / "scene.yaml") +
+                         " --method photon_map --set photons=1000 --out " + shell_quoted(out), output);
+  EXPECT_EQ(code, 1) << output;
+  EXPECT_TRUE(fs::exists(out / "caustic.exr")) << output;
+  EXPECT_FALSE(fs::exists(out / "composite.png")) << output;
+  for (const auto& entry : fs::directory_iterator(out)) EXPECT_FALSE(is_partial_file_name(entry.path().filename().string()));
+}
+
+// --results that cannot be a results folder (a file, a file above it, a symbolic-link loop) used to
+// fail with exit code 1 after the work had started; now exit code 2 first, naming the path and reason.
+TEST(ReliabilityLimits, ResultsFolderProblemsAreInputErrors) {
+  TemporaryFolder folder("results_folder");
+  std::string experiment = write_valid_experiment(folder);
+  folder.write("a_file", "not a folder\n");
+  fs::create_symlink(folder.path("loop_b"), folder.path("loop_a"));
+  fs::create_symlink(folder.path("loop_a"), folder.path("loop_b"));
+  struct Case {
+    fs::path results;
+    std::string expected;
+  };
+  for (const Case& item : {Case{folder.path("a_file"), "a_file', which is a file"},
+                           Case{folder.path("a_file") / "results", "a_file/results': Not a directory (ENOTDIR)"},
+                           Case{folder.path("loop_a"), "Too many levels of symbolic links (ELOOP)"}}) {
+    std::string output;
+    int code = causticbench_command("run " + shell_quoted(experiment) + " --results " + shell_quoted(item.results), output);
+    EXPECT_EQ(code, 2) << output;
+    EXPECT_NE(output.find("--results: expected a folder to write results into, found '"), std::string::npos) << output;
+    EXPECT_NE(output.find(item.expected), std::string::npos) << output;
+  }
+  EXPECT_EQ(read_text(folder.path("a_file").string()), "not a folder\n");
 }

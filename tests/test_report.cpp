@@ -230,12 +230,34 @@ TEST_F(ReportTest, WritesEveryFile) {
         "vendor/vega.min.js", "vendor/vega-lite.min.js", "vendor/vega-embed.min.js"})
     EXPECT_TRUE(fs::is_regular_file(folder / "report" / file)) << file;
   EXPECT_FALSE(fs::exists(folder / "report" / "pin_1600.png")) << "failed runs have no pictures";
+  EXPECT_FALSE(fs::exists(folder / "report" / "pm_1e5_flip.png")) << "no FLIP map where flip is not measured";
   // Thumbnails are shrunk to 256 pixels wide, keeping the aspect ratio.
   for (const char* file : {"reference.png", "pm_1e5.png", "pm_1e5_error.png"}) {
     cv::Mat picture = cv::imread((folder / "report" / file).string());
     EXPECT_EQ(picture.cols, 256) << file;
     EXPECT_EQ(picture.rows, 192) << file;
   }
+}
+
+// Where the experiment measures flip, every run with an error map also has its HDR-FLIP map, in [0, 1]
+// as the metric defines it: black where test and reference agree, brighter where they differ more.
+TEST_F(ReportTest, FlipMapsBesideTheErrorMapsWhenFlipIsMeasured) {
+  json experiment = json::parse(read_text(folder / "experiment.json"));
+  experiment["metrics"].push_back("flip");
+  write_json(folder / "experiment.json", experiment);
+  ReportSummary summary = write_report(folder.string());
+  for (const char* file : {"pm_1e4_flip.png", "pm_1e6_flip.png", "pin_100_flip.png", "flip_colour_bar.png"})
+    EXPECT_TRUE(fs::is_regular_file(folder / "report" / file)) << file;
+  EXPECT_FALSE(fs::exists(folder / "report" / "reference_flip.png"));
+  EXPECT_FALSE(fs::exists(folder / "report" / "pin_1600_flip.png")) << "failed runs have no pictures";
+  // pm_1e4 (relmse 0.1) differs more from the reference than pm_1e6 (relmse 0.005): a brighter map.
+  auto brightness = [&](const char* file) { return cv::mean(cv::imread((folder / "report" / file).string()))[0]; };
+  EXPECT_GT(brightness("pm_1e4_flip.png"), brightness("pm_1e6_flip.png") + 1.0);
+  std::string page = read_text(summary.html), md = read_text(summary.markdown);
+  EXPECT_NE(page.find("src=\"report/pm_1e4_flip.png\""), std::string::npos);
+  EXPECT_NE(page.find("Right: the HDR-FLIP error map"), std::string::npos);
+  EXPECT_NE(md.find("| run | E_c | error | FLIP | |"), std::string::npos);
+  EXPECT_NE(md.find("![FLIP](report/pm_1e4_flip.png)"), std::string::npos);
 }
 
 TEST_F(ReportTest, CsvHasOneRowPerRunInFullPrecision) {

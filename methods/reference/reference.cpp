@@ -103,6 +103,8 @@ const MethodInfo& ReferenceMethod::static_info() {
     c.moving_light = c.moving_objects = c.occlusion = c.non_lambertian_receivers = true;
     c.notes = {{"non_lambertian_receivers", "E_c is irradiance, independent of the receiver's BRDF"}};
     m.quick_knobs = {"photons_per_pass=20000", "max_passes=2", "target_noise_floor=0", "max_seconds=0"};
+    // The per-pixel hit points and their progressive statistics (measured: docs/results-format.md, "Memory").
+    m.working_bytes_per_pixel = 24.0;
     return m;
   }();
   return info;

@@ -1,0 +1,238 @@
+// The claims of experiment.json checked on the stored runs (docs/reports.md, "Claims"): "best" (the
+// best run matches a filter), "better" (every run of one filter beats every run of another) and
+// "linear" (a quantity grows linearly with a knob, per group of the other knobs). Only the verdicts and
+// the numbers behind them are computed here; claim_evidence.cpp puts them into words.
+#include <algorithm>
+#include <iterator>
+#include <set>
+
+#include "experiments/experiment.h"
+#include "reports/report_parts.h"
+
+namespace causticbench::report_detail {
+
+namespace {
+
+const char* const kClaimQuantities[] = {"render_ms", "update_ms", "frame_ms", "prepare_seconds", "memory_bytes"};
+
+// Not in the metric registry, so better() and direction_text() take them as lower-is-better, as they are.
+bool is_claim_quantity(const std::string& name) {
+  return std::any_of(std::begin(kClaimQuantities), std::end(kClaimQuantities),
+                     [&](const char* quantity) { return name == quantity; });
+}
+
+// A claim's metric or quantity of a run: metrics from "metrics"; timings (medians), prepare seconds and
+// memory through the paper block's lookup.
+std::optional<double> claim_value(const Run& run, const std::string& name) {
+  std::optional<double> value = is_claim_quantity(name) ? ours(run, name) : run.metric(name);
+  return finite(value) ? value : std::nullopt;
+}
+
+std::optional<double> knob_number(const json& knobs, const std::string& name) {
+  const json& value = member(knobs, name);
+  if (value.is_number()) return value.get<double>();
+  if (value.is_string()) {
+    const std::string& text = value.get_ref<const std::string&>();
+    try {
+      size_t used = 0;
+      double parsed = std::stod(text, &used);
+      if (used == text.size()) return parsed;
+    } catch (const std::exception&) {
+    }
+  }
+  return std::nullopt;
+}
+
+// The ok runs matching `filter` that have a value of `quantity`, how many failed runs match it, and how
+// many ok runs match it with an undefined value (docs/metrics.md, "Undefined values").
+std::vector<ClaimPoint> claim_points(const Report& report, const std::string& filter, const std::string& quantity,
+                                     size_t& failed, size_t& undefined) {
+  std::vector<ClaimPoint> points;
+  failed = 0;
+  undefined = 0;
+  for (size_t i = 0; i < report.runs.size(); ++i) {
+    const Run& run = report.runs[i];
+    if (!record_matches_filter(run.record, filter)) continue;
+    if (!run.ok) {
+      ++failed;
+      continue;
+    }
+    if (auto value = claim_value(run, quantity))
+      points.push_back({i, *value});
+    else if (!run.undefined_reason(quantity).empty())
+      ++undefined;
+  }
+  return points;
+}
+
+// The best point (first of equals), or the worst with `worst`.
+std::optional<ClaimPoint> extreme(const std::vector<ClaimPoint>& points, const std::string& quantity, bool worst) {
+  std::optional<ClaimPoint> found;
+  for (const ClaimPoint& point : points) {
+    if (!found || (worst ? better(quantity, found->value, point.value)
+                         : better(quantity, point.value, found->value)))
+      found = point;
+  }
+  return found;
+}
+
+// Least squares y = slope x + intercept; R^2 = 1 - SS_res / SS_tot (1 for an exact fit).
+void fit_line(LinearGroup& group) {
+  size_t n = group.xs.size();
+  if (n < kLinearMinPoints) return;
+  double mean_x = 0.0, mean_y = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    mean_x += group.xs[i];
+    mean_y += group.ys[i];
+  }
+  mean_x /= static_cast<double>(n);
+  mean_y /= static_cast<double>(n);
+  double sxx = 0.0, sxy = 0.0, syy = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    double dx = group.xs[i] - mean_x, dy = group.ys[i] - mean_y;
+    sxx += dx * dx;
+    sxy += dx * dy;
+    syy += dy * dy;
+  }
+  if (!(sxx > 0.0)) return;  // x does not vary: no line to fit
+  group.fitted = true;
+  group.slope = sxy / sxx;
+  group.intercept = mean_y - group.slope * mean_x;
+  double residual = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    double e = group.ys[i] - (group.slope * group.xs[i] + group.intercept);
+    residual += e * e;
+  }
+  group.r2 = syy > 0.0 ? 1.0 - residual / syy : 1.0;
+}
+
+void evaluate_best(const Report& report, ClaimResult& result) {
+  std::string among = string_member(result.claim, "among"), expect = string_member(result.claim, "expect");
+  std::vector<ClaimPoint> points =
+      claim_points(report, among, result.quantity, result.failed_first, result.undefined_first);
+  std::vector<ClaimPoint> expected, others;
+  for (const ClaimPoint& point : points)
+    (record_matches_filter(report.runs[point.run].record, expect) ? expected : others).push_back(point);
+  result.first_count = expected.size();
+  result.other_count = others.size();
+  result.first = extreme(expected, result.quantity, false);
+  result.other = extreme(others, result.quantity, false);
+  if (points.size() < 2 || !result.first || !result.other) return;
+  result.verdict = better(result.quantity, result.first->value, result.other->value) ? "confirmed"
+                                                                                            : "not confirmed";
+}
+
+void evaluate_better(const Report& report, ClaimResult& result) {
+  std::vector<ClaimPoint> mine =
+      claim_points(report, string_member(result.claim, "run"), result.quantity, result.failed_first,
+                   result.undefined_first);
+  std::vector<ClaimPoint> theirs =
+      claim_points(report, string_member(result.claim, "than"), result.quantity, result.failed_other,
+                   result.undefined_other);
+  result.first_count = mine.size();
+  result.other_count = theirs.size();
+  result.first = extreme(mine, result.quantity, true);
+  result.other = extreme(theirs, result.quantity, false);
+  if (!result.first || !result.other) return;
+  result.verdict = better(result.quantity, result.first->value, result.other->value) ? "confirmed"
+                                                                                            : "not confirmed";
+}
+
+void evaluate_linear(const Report& report, ClaimResult& result) {
+  std::string x = string_member(result.claim, "x");
+  result.min_r2 = number(result.claim, "min_r2").value_or(0.98);
+  std::vector<size_t> runs;
+  std::vector<json> knobs;
+  std::vector<double> xs, ys;
+  for (const ClaimPoint& point : claim_points(report, string_member(result.claim, "among"), result.quantity,
+                                             result.failed_first, result.undefined_first)) {
+    const Run& run = report.runs[point.run];
+    json resolved = run_knobs(run);
+    auto x_value = knob_number(resolved, x);
+    if (!finite(x_value)) continue;
+    resolved.erase(x);
+    resolved["method"] = run.method;
+    runs.push_back(point.run);
+    knobs.push_back(std::move(resolved));
+    xs.push_back(*x_value);
+    ys.push_back(point.value);
+  }
+  result.points = runs.size();
+  // Group by every other knob (and the method) whose value differs between the runs. receiver_pixels is
+  // measured, not set, so it never groups; nor does the variant when x is receiver_pixels (the variants
+  // are what makes x vary).
+  std::set<std::string> names;
+  for (const json& k : knobs)
+    for (const auto& [name, value] : k.items()) names.insert(name);
+  names.erase("receiver_pixels");
+  if (x == "receiver_pixels") names.erase("variant");
+  for (const std::string& name : names) {
+    std::set<std::string> values;
+    for (const json& k : knobs) values.insert(member(k, name).dump());
+    if (values.size() > 1) result.group_by.push_back(name);
+  }
+  if (std::count(result.group_by.begin(), result.group_by.end(), "method")) {
+    result.group_by.erase(std::find(result.group_by.begin(), result.group_by.end(), "method"));
+    result.group_by.insert(result.group_by.begin(), "method");
+  }
+  for (size_t p = 0; p < runs.size(); ++p) {
+    json key = json::object();
+    for (const std::string& name : result.group_by) key[name] = member(knobs[p], name);
+    auto group = std::find_if(result.groups.begin(), result.groups.end(),
+                              [&](const LinearGroup& g) { return g.knobs == key; });
+    if (group == result.groups.end()) {
+      result.groups.push_back(LinearGroup{});
+      group = std::prev(result.groups.end());
+      group->knobs = key;
+    }
+    group->runs.push_back(runs[p]);
+    group->xs.push_back(xs[p]);
+    group->ys.push_back(ys[p]);
+  }
+  bool any = false, all = true;
+  for (LinearGroup& group : result.groups) {
+    fit_line(group);
+    if (!group.fitted) continue;
+    group.passed = group.r2 >= result.min_r2;
+    any = true;
+    all = all && group.passed;
+  }
+  if (any) result.verdict = all ? "confirmed" : "not confirmed";
+}
+
+}  // namespace
+
+void evaluate_claims(Report& report) {
+  const json& claims = member(report.experiment, "claims");
+  if (!claims.is_array()) return;
+  for (const json& claim : claims) {
+    ClaimResult result;
+    result.claim = claim;
+    result.kind = string_member(claim, "kind");
+    result.verdict = "not measured";
+    std::vector<std::string> needed;
+    if (result.kind == "best")
+      needed = {"metric", "among", "expect"};
+    else if (result.kind == "better")
+      needed = {"metric", "run", "than"};
+    else if (result.kind == "linear")
+      needed = {"x", "y", "among"};
+    else
+      result.problem = "unknown kind '" + result.kind + "' (expected best, better or linear)";
+    for (const std::string& field : needed)
+      if (!member(claim, field).is_string() && result.problem.empty())
+        result.problem = "the claim has no '" + field + "'";
+    result.quantity = string_member(claim, result.kind == "linear" ? "y" : "metric");
+    if (result.problem.empty()) {
+      if (result.kind == "best")
+        evaluate_best(report, result);
+      else if (result.kind == "better")
+        evaluate_better(report, result);
+      else
+        evaluate_linear(report, result);
+    }
+    report.claims.push_back(std::move(result));
+  }
+}
+
+}  // namespace causticbench::report_detail

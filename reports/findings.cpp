@@ -1,0 +1,124 @@
+// The summary at the top of report.html and report.md: the experiment's facts beside the environment,
+// and the one-line findings (run counts, claims, and per variant the best and fastest run, the front
+// over all methods and whether the reference's noise floor sits well below the best relMSE).
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "reports/report_parts.h"
+
+namespace causticbench::report_detail {
+
+// "relmse 0.012", "relmse undefined", or "empty reference": the primary metric under a run's picture.
+std::string primary_caption(const Report& report, const Run& run) {
+  if (run.empty_reference) return "empty reference";
+  if (auto value = run.metric(report.primary)) return report.primary + " " + num(*value);
+  return report.primary + (run.undefined_reason(report.primary).empty() ? " \u2014" : " undefined");
+}
+
+std::vector<std::pair<std::string, std::string>> experiment_facts(const Report& report) {
+  std::vector<std::pair<std::string, std::string>> facts;
+  auto add = [&](const std::string& name, const json& value) {
+    if (!value.is_null()) {
+      std::vector<std::pair<std::string, std::string>> flat;
+      flatten(value, name, flat);
+      for (auto& entry : flat) facts.push_back(entry);
+    }
+  };
+  add("source", member(report.experiment, "source"));
+  add("scene", member(report.experiment, "scene"));
+  auto resolution_text = [](const json& resolution) {
+    return resolution.is_array() && resolution.size() == 2
+               ? value_text(resolution[0]) + " x " + value_text(resolution[1])
+               : std::string();
+  };
+  auto reference_text = [](const Variant& variant) {
+    std::string text = variant.reference_key;
+    if (variant.noise_floor) text += ", noise floor " + num(*variant.noise_floor);
+    const json& passes = member(variant.reference, "passes");
+    if (passes.is_number()) text += ", " + value_text(passes) + " passes";
+    const json& seconds = member(variant.reference, "seconds");
+    if (seconds.is_number()) text += ", " + num(seconds.get<double>()) + " s";
+    if (member(variant.reference, "converged") == false) text += ", NOT converged (stopped on its time cap)";
+    return text;
+  };
+  std::string resolution = resolution_text(member(report.experiment, "resolution"));
+  if (!report.multi() && !resolution.empty()) facts.push_back({"resolution", resolution});
+  add("frames", member(report.experiment, "frames"));
+  add("repetitions", member(report.experiment, "repetitions"));
+  facts.push_back({"primary metric", report.primary + " (" + direction_text(report.primary) + ")"});
+  if (!report.multi()) {
+    if (!report.variants.front().reference_key.empty())
+      facts.push_back({"reference", reference_text(report.variants.front())});
+    return facts;
+  }
+  // Several variants: each with its resolution, overrides and reference.
+  for (const Variant& variant : report.variants) {
+    std::vector<std::string> parts;
+    if (!resolution_text(variant.resolution).empty()) parts.push_back(resolution_text(variant.resolution));
+    if (variant.overrides.is_object() && !variant.overrides.empty())
+      parts.push_back("overrides " + variant.overrides.dump());
+    if (!variant.listed) parts.push_back("not listed in experiment.json");
+    parts.push_back(variant.reference_key.empty() ? "no reference" : "reference " + reference_text(variant));
+    facts.push_back({"variant " + variant.name, join(parts, "; ")});
+  }
+  return facts;
+}
+
+// One-line findings at the top: best, fastest, overall front.
+std::vector<std::string> findings(const Report& report, bool html) {
+  std::vector<std::string> lines;
+  auto name = [&](size_t i) {
+    std::string label = report.display(i);
+    return html ? "<b>" + html_escape(label) + "</b>" : "**" + md_escape(label) + "**";
+  };
+  lines.push_back(fmt::format("{} runs: {} ok, {} failed{}.", report.runs.size() + report.missing.size(),
+                              report.runs.size() - report.failed_count(), report.failed_count(),
+                              report.missing.empty() ? "" : fmt::format(", {} not run yet", report.missing.size())));
+  size_t empty = 0;
+  for (size_t i : report.ok_runs()) empty += report.runs[i].empty_reference ? 1 : 0;
+  if (empty)
+    lines.push_back(fmt::format("{} run{} against an empty reference (no caustic in view; the experiment sets "
+                                "empty_reference_expected): reported as \"empty reference\", not scored, and left out "
+                                "of best values, fronts, claims and plots; timings are still shown.",
+                                empty, empty == 1 ? "" : "s"));
+  if (!report.claims.empty())
+    lines.push_back(claims_count_text(report) + (html ? " See <a href=\"#claims\">Claims</a>." : " See Claims below."));
+  auto describe = [&](size_t i) {
+    auto time = report.runs[i].frame_ms();
+    return fmt::format("{} ({}, {} ms)", name(i), primary_caption(report, report.runs[i]),
+                       time ? num(*time) : "\u2014");
+  };
+  // One set of lines per variant (best, fastest, front and noise floor compare runs of one variant only).
+  for (size_t v = 0; v < report.variants.size(); ++v) {
+    const Variant& variant = report.variants[v];
+    std::string in = report.multi() ? " (variant " + variant.name + ")" : "";
+    std::optional<size_t> best, fastest;
+    for (size_t i : report.ok_runs()) {
+      if (report.runs[i].variant_index != v) continue;
+      auto value = report.runs[i].metric(report.primary);
+      if (finite(value) && (!best || better(report.primary, *value, *report.runs[*best].metric(report.primary))))
+        best = i;
+      auto time = report.runs[i].frame_ms();
+      if (finite(time) && (!fastest || *time < *report.runs[*fastest].frame_ms())) fastest = i;
+    }
+    if (best) lines.push_back("Best " + report.primary + in + ": " + describe(*best) + ".");
+    if (fastest) lines.push_back("Fastest frame" + in + ": " + describe(*fastest) + ".");
+    const std::vector<size_t>& overall = report.fronts[v].overall;
+    if (!overall.empty()) {
+      std::vector<std::string> steps;
+      for (size_t i : overall) steps.push_back(describe(i));
+      lines.push_back("Pareto front over all methods" + in +
+                      " (fastest first, \u25c6 in the table): " + join(steps, " \u2192 ") + ".");
+    }
+    if (best && report.primary == "relmse" && variant.noise_floor && *variant.noise_floor > 0.0) {
+      double value = *report.runs[*best].metric(report.primary);
+      double ratio = value / *variant.noise_floor;
+      lines.push_back(fmt::format("The reference's noise floor{} {} is {} the best relMSE ({}\u00d7 below it).", in,
+                                  num(*variant.noise_floor), ratio >= 10.0 ? "well below" : "NOT well below",
+                                  fmt::format("{:.3g}", ratio)));
+    }
+  }
+  return lines;
+}
+
+}  // namespace causticbench::report_detail

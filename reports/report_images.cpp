@@ -1,0 +1,301 @@
+// The pictures of the report under <experiment>/report/: a thumbnail of each variant's reference and
+// of each ok run's first frame, exposed so that the reference's mean over the receivers is middle grey,
+// an error map of each run against its own reference, and the colour bar of the error maps
+// (docs/reports.md, "Images").
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+#include <utility>
+
+#include "core/errors.h"
+#include "core/files.h"
+#include "core/gbuffer.h"
+#include "core/image.h"
+#include "core/image_statistics.h"
+#include "metrics/flip.h"
+#include "reports/report_parts.h"
+
+namespace causticbench::report_detail {
+
+namespace {
+
+constexpr int kThumbnailWidth = 256;  // thumbnails are at most this wide (never enlarged)
+
+cv::Mat to_mat(const Image& image) {
+  cv::Mat mat(image.height(), image.width(), CV_32FC3);
+  for (int y = 0; y < image.height(); ++y) {
+    float* row = mat.ptr<float>(y);
+    for (int x = 0; x < image.width(); ++x) {
+      size_t pixel = static_cast<size_t>(y) * image.width() + x;
+      for (int c = 0; c < 3; ++c) {
+        float value = image.at(pixel, std::min(c, image.channels() - 1));
+        row[3 * x + c] = std::isfinite(value) ? value : 0.0f;
+      }
+    }
+  }
+  return mat;
+}
+
+Image to_image(const cv::Mat& mat) {
+  Image image(mat.cols, mat.rows, 3);
+  for (int y = 0; y < mat.rows; ++y) {
+    const float* row = mat.ptr<float>(y);
+    for (int x = 0; x < mat.cols; ++x)
+      for (int c = 0; c < 3; ++c) image.at(static_cast<size_t>(y) * mat.cols + x, c) = row[3 * x + c];
+  }
+  return image;
+}
+
+cv::Mat shrink(const cv::Mat& mat) {
+  if (mat.cols <= kThumbnailWidth) return mat;
+  int height = std::max(1, static_cast<int>(std::lround(mat.rows * static_cast<double>(kThumbnailWidth) / mat.cols)));
+  cv::Mat small;
+  cv::resize(mat, small, cv::Size(kThumbnailWidth, height), 0, 0, cv::INTER_AREA);
+  return small;
+}
+
+// Pixels where the reference has caustic light (masked-out pixels are stored as zero): the fallback
+// mask when a reference has no stored G-buffer.
+std::vector<uint8_t> lit_mask(const Image& reference) {
+  std::vector<uint8_t> mask(reference.pixel_count(), 0);
+  for (size_t pixel = 0; pixel < reference.pixel_count(); ++pixel) {
+    for (int c = 0; c < std::min(3, reference.channels()); ++c) {
+      float value = reference.at(pixel, c);
+      if (std::isfinite(value) && value > 0.0f) mask[pixel] = 1;
+    }
+  }
+  return mask;
+}
+
+// The receiver mask of a reference frame, from its stored G-buffer (channel 10, "receiver"), so that
+// the exposure matches `causticbench render`; the lit pixels when the G-buffer is missing.
+std::vector<uint8_t> receiver_mask(const fs::path& reference_folder, int64_t frame, const Image& reference) {
+  fs::path gbuffer_path = reference_folder / frame_file(frame, "gbuffer");
+  if (fs::is_regular_file(gbuffer_path)) {
+    Image gbuffer = read_exr(gbuffer_path.string());
+    if (gbuffer.channels() > GBuffer::kReceiverChannel && gbuffer.pixel_count() == reference.pixel_count()) {
+      std::vector<uint8_t> mask(gbuffer.pixel_count(), 0);
+      for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
+        mask[pixel] = gbuffer.at(pixel, GBuffer::kReceiverChannel) > 0.5f;
+      }
+      return mask;
+    }
+  }
+  return lit_mask(reference);
+}
+
+// Through the store's one atomic write (core/files.h): encoded in memory, then written and renamed.
+void write_png_atomically(const cv::Mat& bgr, const fs::path& path) {
+  std::vector<unsigned char> bytes;
+  if (!cv::imencode(".png", bgr, bytes)) throw std::runtime_error("cannot encode " + path.string());
+  write_file_atomically(path.string(), std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+
+void write_thumbnail(const Image& image, const fs::path& path, float exposure) {
+  write_png(to_image(shrink(to_mat(image))), path.string(), exposure);
+}
+
+// |test - reference| as luminance, clamped to [0, scale], then shrunk, then coloured.
+void write_error_map(const Image& test, const Image& reference, double scale, const fs::path& path) {
+  cv::Mat error(reference.height(), reference.width(), CV_32F);
+  for (int y = 0; y < reference.height(); ++y) {
+    float* row = error.ptr<float>(y);
+    for (int x = 0; x < reference.width(); ++x) {
+      size_t pixel = static_cast<size_t>(y) * reference.width() + x;
+      const float weights[3] = {0.2126f, 0.7152f, 0.0722f};
+      double sum = 0.0;
+      bool bad = false;
+      for (int c = 0; c < 3; ++c) {
+        float t = test.at(pixel, std::min(c, test.channels() - 1));
+        float r = reference.at(pixel, std::min(c, reference.channels() - 1));
+        if (!std::isfinite(t) || !std::isfinite(r)) bad = true;
+        sum += weights[c] * std::abs(static_cast<double>(t) - r);
+      }
+      row[x] = bad ? 1.0f : static_cast<float>(std::clamp(sum, 0.0, scale) / scale);
+    }
+  }
+  cv::Mat small = shrink(error), bytes, coloured;
+  small.convertTo(bytes, CV_8U, 255.0);
+  cv::applyColorMap(bytes, coloured, cv::COLORMAP_INFERNO);
+  write_png_atomically(coloured, path);
+}
+
+// The HDR-FLIP map (values in [0, 1]: the metric's own scale, no clamping), shrunk, in magma as the
+// FLIP tool shows it.
+void write_flip_map(const Image& flip, const fs::path& path) {
+  cv::Mat values(flip.height(), flip.width(), CV_32F);
+  for (int y = 0; y < flip.height(); ++y) {
+    float* row = values.ptr<float>(y);
+    for (int x = 0; x < flip.width(); ++x) row[x] = flip.at(static_cast<size_t>(y) * flip.width() + x, 0);
+  }
+  cv::Mat small = shrink(values), bytes, coloured;
+  small.convertTo(bytes, CV_8U, 255.0);
+  cv::applyColorMap(bytes, coloured, cv::COLORMAP_MAGMA);
+  write_png_atomically(coloured, path);
+}
+
+void write_colour_bar(const fs::path& path, int colour_map = cv::COLORMAP_INFERNO) {
+  cv::Mat ramp(1, 256, CV_8U);
+  for (int i = 0; i < 256; ++i) ramp.at<uint8_t>(0, i) = static_cast<uint8_t>(i);
+  cv::Mat bar, coloured;
+  cv::resize(ramp, bar, cv::Size(256, 12), 0, 0, cv::INTER_NEAREST);
+  cv::applyColorMap(bar, coloured, colour_map);
+  write_png_atomically(coloured, path);
+}
+
+struct ReferenceFrame {
+  Image image;
+  std::vector<uint8_t> mask;  // the receivers (or, without a stored G-buffer, the lit pixels)
+  double mean = 0.0;  // masked mean (average of RGB) over the mask
+  bool ok = false;
+  std::string error;
+};
+
+}  // namespace
+
+void make_images(Report& report, std::set<std::string>& written) {
+  fs::path images = report.folder / "report";
+  // The FLIP map only where the experiment measures FLIP: its mean is then the flip column.
+  const json& metrics = member(report.experiment, "metrics");
+  const bool with_flip = metrics.is_array() && std::find(metrics.begin(), metrics.end(), json("flip")) != metrics.end();
+  // Reference frames, keyed by (reference_key, frame): every run is compared with its own reference.
+  std::map<std::pair<std::string, int64_t>, ReferenceFrame> references;
+  auto reference_frame = [&](const std::string& key, int64_t frame) -> ReferenceFrame& {
+    auto it = references.find({key, frame});
+    if (it != references.end()) return it->second;
+    ReferenceFrame& entry = references[{key, frame}];
+    if (key.empty()) {
+      entry.error = "no reference";
+      return entry;
+    }
+    fs::path folder = report.reference_folder(key);
+    fs::path path = folder / frame_file(frame);
+    try {
+      entry.image = read_exr(path.string());
+      entry.mask = receiver_mask(folder, frame, entry.image);
+      entry.mean = masked_mean(entry.image, entry.mask);
+      entry.ok = true;
+    } catch (const std::exception& failure) {
+      entry.error = fmt::format("reference image {} unreadable: {}", path.string(), failure.what());
+    }
+    return entry;
+  };
+
+  int64_t first_frame = 0;
+  const json& frames = member(report.experiment, "frames");
+  if (frames.is_array() && !frames.empty() && frames[0].is_number_integer()) first_frame = frames[0].get<int64_t>();
+  for (size_t i : report.ok_runs()) {
+    const json& run_frames = member(report.runs[i].record, "frames");
+    if (run_frames.is_array() && !run_frames.empty() && member(run_frames[0], "frame").is_number_integer()) {
+      first_frame = member(run_frames[0], "frame").get<int64_t>();
+      break;
+    }
+  }
+
+  // The references first: one per variant ("reference.png" when there is one variant).
+  std::vector<std::string> scales;  // the error maps' saturation value of each variant
+  for (const Variant& variant : report.variants) {
+    ReferenceFrame& reference = reference_frame(variant.reference_key, first_frame);
+    if (!reference.ok) {
+      if (!variant.reference_key.empty())
+        report.notes.push_back((report.multi() ? "Variant " + variant.name + ": " : std::string()) + reference.error +
+                               ": thumbnails are exposed on their own mean and have no error maps.");
+      continue;
+    }
+    Thumbnail thumb;
+    thumb.reference = true;
+    thumb.title = report.multi() ? "reference " + variant.name : "reference";
+    std::string passes = member(variant.reference, "passes").is_number()
+                             ? value_text(member(variant.reference, "passes")) + " passes"
+                             : "";
+    thumb.caption = fmt::format("frame {}{}{}", first_frame, passes.empty() ? "" : " \u00b7 " + passes,
+                                variant.noise_floor ? " \u00b7 noise floor " + num(*variant.noise_floor) : "");
+    thumb.ec_png = report.multi() ? "reference_" + file_safe(variant.name) + ".png" : "reference.png";
+    for (size_t n = 2; written.count(thumb.ec_png); ++n)
+      thumb.ec_png = fmt::format("reference_{}_{}.png", file_safe(variant.name), n);
+    float exposure = reference.mean > 0.0 ? static_cast<float>(kMiddleGrey / reference.mean) : 1.0f;
+    write_thumbnail(reference.image, images / thumb.ec_png, exposure);
+    written.insert(thumb.ec_png);
+    if (!(reference.mean > 0.0)) thumb.note = "black over the receivers: no error maps against it";
+    report.thumbnails.push_back(thumb);
+    if (!(reference.mean > 0.0)) continue;  // error maps need the reference's mean as their scale
+    scales.push_back((report.multi() ? variant.name + " " : std::string()) + num(kErrorScale * reference.mean) +
+                     " W/m\u00b2");
+  }
+  if (scales.size() == 1 && !report.multi()) {
+    report.error_scale_text = fmt::format("{} \u00d7 reference mean = {}", num(kErrorScale), scales.front());
+  } else if (!scales.empty()) {
+    report.error_scale_text =
+        fmt::format("{} \u00d7 the mean of the run's own reference ({})", num(kErrorScale), join(scales, ", "));
+  }
+
+  // Runs grouped by method, in their order.
+  for (const std::string& method : report.methods) {
+    for (size_t i : report.ok_runs()) {
+      const Run& run = report.runs[i];
+      if (run.method != method) continue;
+      Thumbnail thumb;
+      thumb.title = report.display(i);
+      auto time = run.frame_ms();
+      thumb.caption = primary_caption(report, run) + (time ? " \u00b7 " + num(*time) + " ms" : "");
+      const json& run_frames = member(run.record, "frames");
+      if (!run_frames.is_array() || run_frames.empty()) {
+        thumb.note = "no frames recorded";
+        report.thumbnails.push_back(thumb);
+        continue;
+      }
+      int64_t frame = member(run_frames[0], "frame").is_number_integer() ? member(run_frames[0], "frame").get<int64_t>()
+                                                                         : first_frame;
+      std::string image_name = string_member(run_frames[0], "image", frame_file(frame));
+      fs::path path = report.folder / "runs" / run.key / image_name;
+      try {
+        Image image = read_exr(path.string());
+        ReferenceFrame& reference = reference_frame(run.reference_key, frame);
+        // A black reference gives no exposure: the run is then exposed on its own light, so that light the
+        // method puts where the reference has none shows.
+        double mean = reference.ok && reference.mean > 0.0 ? reference.mean : masked_mean(image, lit_mask(image));
+        float exposure = mean > 0.0 ? static_cast<float>(kMiddleGrey / mean) : 1.0f;
+        std::string stem = file_safe(run.key);
+        thumb.ec_png = stem + ".png";
+        write_thumbnail(image, images / thumb.ec_png, exposure);
+        written.insert(thumb.ec_png);
+        if (reference.ok && reference.mean > 0.0) {
+          if (reference.image.width() == image.width() && reference.image.height() == image.height()) {
+            thumb.error_png = stem + "_error.png";
+            write_error_map(image, reference.image, kErrorScale * reference.mean, images / thumb.error_png);
+            written.insert(thumb.error_png);
+            Image flip = with_flip ? flip_error_map(image, reference.image, reference.mask) : Image();
+            if (flip.pixel_count() > 0) {
+              thumb.flip_png = stem + "_flip.png";
+              write_flip_map(flip, images / thumb.flip_png);
+              written.insert(thumb.flip_png);
+              report.has_flip_maps = true;
+            }
+          } else {
+            thumb.note = fmt::format("{}x{} but the reference is {}x{}: no error map", image.width(), image.height(),
+                                     reference.image.width(), reference.image.height());
+          }
+        }
+      } catch (const std::exception& failure) {
+        thumb.note = fmt::format("image {} unreadable: {}", path.string(), failure.what());
+      }
+      report.thumbnails.push_back(thumb);
+    }
+  }
+  if (!report.error_scale_text.empty()) {
+    write_colour_bar(images / "error_colour_bar.png");
+    written.insert("error_colour_bar.png");
+  }
+  if (report.has_flip_maps) {
+    write_colour_bar(images / "flip_colour_bar.png", cv::COLORMAP_MAGMA);
+    written.insert("flip_colour_bar.png");
+  }
+}
+
+}  // namespace causticbench::report_detail

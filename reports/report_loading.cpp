@@ -1,0 +1,239 @@
+// Loading the stored results into the report model (docs/results-format.md): experiment.json,
+// environment.json, every run's record.json (checked by the store's own check, a damaged one shown as
+// failed), the metric columns, the scene variants, which variant and reference each run belongs to, and
+// each variant's reference record. What is missing becomes a note at the top of the report, not an error.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <iterator>
+#include <set>
+
+#include "core/errors.h"
+#include "experiments/record_check.h"
+#include "reports/report_parts.h"
+
+namespace causticbench::report_detail {
+
+void load_report(Report& report, const std::string& folder_text) {
+  if (folder_text.empty()) throw InputError("report: no experiment folder given (expected results/<experiment>/)");
+  fs::path folder(folder_text);
+  std::error_code error;
+  if (!fs::exists(folder, error)) {
+    throw InputError(
+        fmt::format("'{}' does not exist: expected an experiment results folder such as "
+                    "results/<experiment>/, written by `causticbench run EXPERIMENT.yaml`",
+                    folder_text));
+  }
+  if (!fs::is_directory(folder, error)) {
+    throw InputError(
+        fmt::format("'{}' is a file, not an experiment results folder (results/<experiment>/)", folder_text));
+  }
+  folder = fs::absolute(folder).lexically_normal();
+  if (folder.filename().empty()) folder = folder.parent_path();
+  report.folder = folder;
+  if (!fs::is_regular_file(folder / "experiment.json")) {
+    std::vector<std::string> inside;
+    for (const auto& entry : fs::directory_iterator(folder, error)) {
+      if (entry.is_directory() && fs::is_regular_file(entry.path() / "experiment.json"))
+        inside.push_back((fs::path(folder_text) / entry.path().filename()).string());
+    }
+    std::sort(inside.begin(), inside.end());
+    std::string hint = inside.empty() ? "; `causticbench run EXPERIMENT.yaml` writes one as results/<experiment>/"
+                                      : "; the experiment folders inside it are: " + join(inside, ", ");
+    throw InputError(
+        fmt::format("'{}' is not an experiment results folder: it has no experiment.json{}", folder_text, hint));
+  }
+  report.experiment = read_json(folder / "experiment.json");
+  if (!report.experiment.is_object())
+    throw InputError(fmt::format("{} is not a JSON object", (folder / "experiment.json").string()));
+  report.name = string_member(report.experiment, "name", folder.filename().string());
+
+  if (fs::is_regular_file(folder / "environment.json")) {
+    report.environment = read_json(folder / "environment.json");
+  } else {
+    report.notes.push_back("environment.json is missing: the machine these numbers come from is unknown.");
+  }
+
+  // Runs: the experiment's list, in its order; without a list, every runs/<key>/ folder.
+  std::vector<std::string> keys;
+  const json& listed = member(report.experiment, "runs");
+  if (listed.is_array()) {
+    for (const json& key : listed)
+      if (key.is_string()) keys.push_back(key.get<std::string>());
+  } else if (fs::is_directory(folder / "runs")) {
+    for (const auto& entry : fs::directory_iterator(folder / "runs"))
+      if (entry.is_directory()) keys.push_back(entry.path().filename().string());
+    std::sort(keys.begin(), keys.end());
+  }
+  size_t unconverged = 0;  // runs measured against a reference stopped by its time cap
+  for (const std::string& key : keys) {
+    fs::path path = folder / "runs" / key / "record.json";
+    if (!fs::is_regular_file(path)) {
+      report.missing.push_back(key);
+      continue;
+    }
+    Run run;
+    run.key = key;
+    try {
+      run.record = read_json(path);
+      // The store's own check (experiments/record_check.h): a damaged record is never shown as ok.
+      std::string problem = run_record_problem(run.record, (folder / "runs" / key).string());
+      if (!problem.empty()) throw InputError(fmt::format("damaged record {}: {}", path.string(), problem));
+    } catch (const InputError& failure) {
+      run.record = json{{"key", key}, {"status", "failed"}, {"error", failure.what()}};
+    }
+    run.status = string_member(run.record, "status", "ok");
+    run.ok = run.status == "ok";
+    run.method = string_member(run.record, "method", "?");
+    run.label = string_member(run.record, "label", run.method + " " + key.substr(0, 8));
+    run.error = string_member(run.record, "error");
+    if (!run.ok && run.error.empty()) run.error = "(no error message recorded)";
+    run.empty_reference = member(run.record, "empty_reference").is_object();
+    if (member(run.record, "reference_converged") == false) ++unconverged;
+    report.runs.push_back(std::move(run));
+  }
+  if (unconverged)
+    report.notes.push_back(fmt::format("{} run(s) were measured against a reference that stopped on its time cap "
+                                       "(max_seconds), not converged: their errors include the reference's own.",
+                                       unconverged));
+  if (report.runs.empty() && report.missing.empty()) report.notes.push_back("experiment.json names no runs.");
+  if (fs::is_directory(folder / "runs")) {
+    std::set<std::string> known(keys.begin(), keys.end());
+    size_t stale = 0;
+    for (const auto& entry : fs::directory_iterator(folder / "runs"))
+      if (entry.is_directory() && !known.count(entry.path().filename().string())) ++stale;
+    if (stale)
+      report.notes.push_back(
+          fmt::format("{} folder(s) under runs/ are not runs of this experiment (an earlier "
+                      "version of it?) and are left out.",
+                      stale));
+  }
+
+  for (const Run& run : report.runs) {
+    if (std::find(report.methods.begin(), report.methods.end(), run.method) == report.methods.end())
+      report.methods.push_back(run.method);
+  }
+
+  // Metric columns: the experiment's, then any other metric a run stored (temporal_flicker, ...),
+  // except nonfinite_pixels unless some run has any.
+  const json& named = member(report.experiment, "metrics");
+  if (named.is_array()) {
+    for (const json& metric : named)
+      if (metric.is_string()) report.metrics.push_back(metric.get<std::string>());
+  }
+  std::set<std::string> stored;
+  bool nonfinite = false;
+  for (const Run& run : report.runs) {
+    const json& undefined = member(run.record, "metrics_undefined");
+    if (undefined.is_object())
+      for (const auto& [name, why] : undefined.items()) stored.insert(name);
+    const json& metrics = member(run.record, "metrics");
+    if (!metrics.is_object()) continue;
+    for (const auto& [name, value] : metrics.items()) {
+      stored.insert(name);
+      if (name == "nonfinite_pixels" && value.is_number() && value.get<double>() > 0) nonfinite = true;
+    }
+  }
+  std::vector<std::string> extra;
+  for (const MetricInfo& info : metric_registry())
+    if (stored.count(info.name)) extra.push_back(info.name);
+  for (const std::string& name : stored)
+    if (!metric_info(name)) extra.push_back(name);
+  for (const std::string& name : extra) {
+    if (name == "nonfinite_pixels" && !nonfinite) continue;
+    if (std::find(report.metrics.begin(), report.metrics.end(), name) == report.metrics.end())
+      report.metrics.push_back(name);
+  }
+  report.primary = string_member(report.experiment, "primary_metric");
+  if (report.primary.empty()) {
+    report.primary = std::find(report.metrics.begin(), report.metrics.end(), "relmse") != report.metrics.end()
+                         ? "relmse"
+                         : (report.metrics.empty() ? "relmse" : report.metrics.front());
+  }
+
+  // The scene variants: experiment.json's list; without one, a single "default" variant with the
+  // top-level reference_key.
+  std::string top_key = string_member(report.experiment, "reference_key");
+  const json& listed_variants = member(report.experiment, "variants");
+  if (listed_variants.is_array()) {
+    for (const json& entry : listed_variants) {
+      if (!entry.is_object()) continue;
+      Variant variant;
+      variant.name = string_member(
+          entry, "name", report.variants.empty() ? "default" : fmt::format("variant{}", report.variants.size()));
+      variant.reference_key = string_member(entry, "reference_key", report.variants.empty() ? top_key : "");
+      variant.resolution = member(entry, "resolution");
+      variant.overrides = member(entry, "overrides");
+      bool known = std::any_of(report.variants.begin(), report.variants.end(),
+                               [&](const Variant& v) { return v.name == variant.name; });
+      if (!known) report.variants.push_back(std::move(variant));
+    }
+  }
+  if (report.variants.empty()) {
+    Variant variant;
+    variant.name = "default";
+    variant.reference_key = top_key;
+    variant.resolution = member(report.experiment, "resolution");
+    variant.overrides = member(report.experiment, "overrides");
+    report.variants.push_back(std::move(variant));
+  }
+  std::vector<std::string> unlisted;
+  for (Run& run : report.runs) {
+    run.variant = string_member(run.record, "variant");
+    run.reference_key = string_member(run.record, "reference_key");
+    if (run.variant.empty()) {
+      auto named = std::find_if(report.variants.begin(), report.variants.end(), [&](const Variant& v) {
+        return !run.reference_key.empty() && v.reference_key == run.reference_key;
+      });
+      run.variant = named != report.variants.end() ? named->name : report.variants.front().name;
+    }
+    auto found = std::find_if(report.variants.begin(), report.variants.end(),
+                              [&](const Variant& v) { return v.name == run.variant; });
+    if (found == report.variants.end()) {
+      Variant variant;
+      variant.name = run.variant;
+      variant.reference_key = run.reference_key;
+      variant.listed = false;
+      unlisted.push_back(run.variant);
+      report.variants.push_back(std::move(variant));
+      found = std::prev(report.variants.end());
+    }
+    run.variant_index = static_cast<size_t>(found - report.variants.begin());
+    if (run.reference_key.empty()) run.reference_key = found->reference_key;
+  }
+  if (!unlisted.empty())
+    report.notes.push_back(
+        fmt::format("Run records name variant(s) that experiment.json does not list: {}.", join(unlisted, ", ")));
+
+  // Each variant's reference record: noise floor, history, passes, seconds.
+  std::map<std::string, json> records;
+  std::set<std::string> missing_records;
+  for (Variant& variant : report.variants) {
+    if (variant.reference_key.empty()) {
+      report.notes.push_back(report.multi() ? fmt::format("Variant {} names no reference_key: no reference image, "
+                                                          "noise floor or error maps for it.",
+                                                          variant.name)
+                                            : "experiment.json names no reference_key: no reference images, noise "
+                                              "floor or error maps.");
+      continue;
+    }
+    fs::path path = report.reference_folder(variant.reference_key) / "record.json";
+    if (!records.count(variant.reference_key)) {
+      if (fs::is_regular_file(path)) {
+        records[variant.reference_key] = read_json(path);
+      } else {
+        records[variant.reference_key] = nullptr;
+        if (missing_records.insert(variant.reference_key).second)
+          report.notes.push_back(fmt::format("The reference record {} is missing: no noise floor or convergence plot{}.",
+                                             path.string(), report.multi() ? " for variant " + variant.name : ""));
+      }
+    }
+    variant.reference = records[variant.reference_key];
+    const json& floor = member(variant.reference, "noise_floor");
+    if (floor.is_number()) variant.noise_floor = floor.get<double>();
+    const json& history = member(variant.reference, "history");
+    if (history.is_array()) variant.history = history;
+  }
+}
+
+}  // namespace causticbench::report_detail

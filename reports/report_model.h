@@ -1,0 +1,208 @@
+// The report's model: what write_report (report.cpp) reads from the stored results and computes before
+// any file is written — the runs, the scene variants with their references, the Pareto fronts, the
+// checked claims, the thumbnails and the plots. Every part of the pipeline fills or reads a Report:
+//   report_loading.cpp   experiment.json, environment.json, the run records and the references
+//   pareto_fronts.cpp    the fronts within each variant
+//   claims.cpp           the claims of experiment.json checked on the runs
+//   report_images.cpp    thumbnails, error maps and the colour bar under report/
+//   plots.cpp            the Vega-Lite plots
+// and then the writers (markdown_writer.cpp, html_writer.cpp, csv_writer.cpp, json_writer.cpp) turn it
+// into files, with the tables (tables.cpp), the summary (findings.cpp) and the claims' evidence
+// (claim_evidence.cpp) they share. The functions between these parts: report_parts.h; the helpers
+// all of them use: report_text.h (JSON members, numbers as text, escaping) and metric_directions.h.
+// Internal to reports/; the public interface is reports/report.h.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "experiments/result_store.h"
+#include "reports/metric_directions.h"
+#include "reports/report_text.h"
+
+namespace causticbench::report_detail {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// Constants of the pictures (docs/reports.md).
+constexpr double kMiddleGrey = 0.18;  // the reference's masked mean maps to this after exposure
+constexpr double kErrorScale = 1.0;   // error maps saturate at kErrorScale x reference mean
+// The vendored Vega bundles (reports/vendor/), copied to report/vendor/ and loaded by report.html.
+inline constexpr const char* kVendorFiles[] = {"vega.min.js", "vega-lite.min.js", "vega-embed.min.js"};
+// A linear claim needs this many points (with different x) in a group to fit a line.
+constexpr size_t kLinearMinPoints = 3;
+
+struct Run {
+  std::string key;
+  json record;
+  bool ok = false;
+  std::string status, method, label, error;
+  // The scene variant the run belongs to and the reference it is compared with: the record's "variant"
+  // and "reference_key"; an older record without them gets the variant whose reference_key it names,
+  // else the first variant ("default" in a plain experiment), and that variant's reference.
+  std::string variant, reference_key;
+  size_t variant_index = 0;  // into Report::variants
+
+  // Its reference had no caustic in view (record "empty_reference", written when the experiment sets
+  // empty_reference_expected): every metric but nonfinite_pixels is undefined, whatever the record holds.
+  bool empty_reference = false;
+
+  // A metric's value; none when the record has none or says it is undefined.
+  std::optional<double> metric(const std::string& name) const {
+    if (!undefined_reason(name).empty()) return std::nullopt;
+    return number(member(record, "metrics"), name);
+  }
+  // Why the run has no value of the metric (docs/metrics.md, "Undefined values"); empty when it has one or
+  // the record gives no reason.
+  std::string undefined_reason(const std::string& name) const {
+    if (empty_reference && metric_info(name) && name != "nonfinite_pixels") {
+      std::string why = string_member(member(record, "empty_reference"), "reason");
+      return why.empty() ? "empty reference" : "empty reference: " + why;
+    }
+    return string_member(member(record, "metrics_undefined"), name);
+  }
+  std::optional<double> timing(const std::string& name) const { return number(member(record, "timings"), name); }
+  std::optional<double> top(const std::string& name) const { return number(record, name); }
+  const json& swept() const { return member(record, "swept"); }
+  std::string swept_text() const { return knobs_text(swept()); }
+  std::optional<double> frame_ms() const { return timing("frame_ms_median"); }
+  // Receiver pixels of the run's first frame (G-buffer), when the record has them.
+  const json& receiver_pixels() const { return member(record, "receiver_pixels"); }
+};
+
+// One scene variant of the experiment (experiment.json "variants"; a plain experiment has one,
+// "default") with its reference.
+struct Variant {
+  std::string name, reference_key;
+  json resolution, overrides;  // as experiment.json states them (null when it does not)
+  bool listed = true;          // false: named by a run record only
+  json reference;              // the reference's record.json, or null
+  std::optional<double> noise_floor;
+  json history = json::array();
+};
+
+// Pareto fronts (indices into Report::runs) within one variant: over all methods, and per method.
+struct Fronts {
+  std::vector<size_t> overall;
+  std::map<std::string, std::vector<size_t>> per_method;
+};
+
+struct Thumbnail {
+  std::string title, caption, ec_png, error_png, flip_png, note;
+  bool reference = false;
+};
+
+struct Plot {
+  std::string id, caption;
+  json spec;
+};
+
+// A claim of experiment.json checked on the stored runs (docs/reports.md, "Claims"). Run indices are
+// into Report::runs; the evidence text is made from these fields when the report is written.
+struct LinearGroup {
+  json knobs = json::object();  // the values of the grouping knobs (empty when there is one group)
+  std::vector<size_t> runs;
+  std::vector<double> xs, ys;
+  bool fitted = false;          // >= 3 points and x varies
+  double slope = NAN, intercept = NAN, r2 = NAN;
+  bool passed = false;
+};
+
+struct ClaimPoint {
+  size_t run = 0;
+  double value = NAN;
+};
+
+struct ClaimResult {
+  json claim;                // as experiment.json states it
+  std::string kind, verdict;  // verdict: "confirmed", "not confirmed" or "not measured"
+  std::string quantity;      // metric (best, better) or y (linear)
+  std::string problem;       // a malformed claim: what is wrong with it
+  // best: the runs matching `among` (with a value), split by `expect`.
+  // better: the runs matching `run` (first) and `than` (other).
+  size_t first_count = 0, other_count = 0, failed_first = 0, failed_other = 0;
+  size_t undefined_first = 0, undefined_other = 0;  // ok runs that match but whose value is undefined
+  std::optional<ClaimPoint> first, other;  // best: best matching / not matching `expect`;
+                                           // better: worst of `run`, best of `than`
+  // linear
+  std::vector<std::string> group_by;
+  std::vector<LinearGroup> groups;
+  size_t points = 0;
+  double min_r2 = 0.98;
+};
+
+struct Report {
+  fs::path folder;
+  json experiment, environment;
+  std::string name, primary;
+  std::vector<std::string> metrics;  // metric columns of the tables
+  std::vector<Run> runs;             // records found, in the experiment's order
+  std::vector<std::string> missing;  // run keys without a record.json
+  std::vector<std::string> methods;  // in order of first appearance
+  std::vector<Variant> variants;     // never empty; experiment.json's order, then any only runs name
+  std::vector<std::string> notes;    // warnings shown at the top of the report
+
+  // Pareto fronts, one set per variant (index as in variants): a run competes only within its variant.
+  std::vector<Fronts> fronts;
+
+  std::vector<Thumbnail> thumbnails;
+  std::string error_scale_text;  // what the brightest colour of the error maps means
+  bool has_flip_maps = false;    // some run has an HDR-FLIP map (the experiment measures flip)
+  std::vector<Plot> plots;
+  std::vector<ClaimResult> claims;
+
+  std::vector<size_t> ok_runs() const {
+    std::vector<size_t> indices;
+    for (size_t i = 0; i < runs.size(); ++i)
+      if (runs[i].ok) indices.push_back(i);
+    return indices;
+  }
+  size_t failed_count() const {
+    return static_cast<size_t>(std::count_if(runs.begin(), runs.end(), [](const Run& run) { return !run.ok; }));
+  }
+  bool multi() const { return variants.size() > 1; }
+  fs::path reference_folder(const std::string& key) const {
+    return key.empty() ? fs::path() : fs::path(ResultPaths{folder.parent_path().string()}.reference(key));
+  }
+  bool on_front(size_t run) const {
+    if (fronts.empty()) return false;
+    const auto& per_method = fronts[runs[run].variant_index].per_method;
+    auto it = per_method.find(runs[run].method);
+    return it != per_method.end() && std::find(it->second.begin(), it->second.end(), run) != it->second.end();
+  }
+  bool on_overall_front(size_t run) const {
+    if (fronts.empty()) return false;
+    const std::vector<size_t>& overall = fronts[runs[run].variant_index].overall;
+    return std::find(overall.begin(), overall.end(), run) != overall.end();
+  }
+  // Every variant's overall front, in variant order.
+  std::vector<size_t> overall_fronts() const {
+    std::vector<size_t> all;
+    for (const Fronts& f : fronts) all.insert(all.end(), f.overall.begin(), f.overall.end());
+    return all;
+  }
+  // The run's label as a person reads it: with several variants, its variant is added unless the label
+  // names it already (the runner appends " @<variant>").
+  std::string display(size_t run) const {
+    const Run& r = runs[run];
+    if (!multi() || r.label.find("@" + r.variant) != std::string::npos) return r.label;
+    return r.label + " @" + r.variant;
+  }
+};
+
+// "Ours" for a paper column or a claim's quantity: the run's timing (median when the name has one),
+// metric, top-level number or counter.
+std::optional<double> ours(const Run& run, const std::string& column);
+
+// The run's resolved knobs as record_matches_filter sees them, with the variant the report assigned
+// (an older record names none).
+json run_knobs(const Run& run);
+
+}  // namespace causticbench::report_detail

@@ -1,0 +1,101 @@
+// The functions between the parts of the report pipeline (see report_model.h for the order), one block
+// per source file: the stages that fill the Report, the pieces of text and tables that several writers
+// share, and the writers themselves. Internal to reports/; the public interface is reports/report.h.
+#pragma once
+
+#include <optional>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "reports/report_model.h"
+
+namespace causticbench::report_detail {
+
+// ---------------------------------------------------------------------------------------------------
+// The stages, in the order write_report runs them.
+
+// report_loading.cpp: experiment.json, environment.json, every run's record.json (a damaged one becomes
+// a failed run), the metric columns, the scene variants and each variant's reference record. Throws
+// InputError when `folder_text` is not an experiment results folder.
+void load_report(Report& report, const std::string& folder_text);
+
+// pareto_fronts.cpp: report.fronts, within each variant, on the primary metric against frame time.
+void compute_fronts(Report& report);
+
+// claims.cpp: report.claims, one per entry of experiment.json "claims".
+void evaluate_claims(Report& report);
+
+// report_images.cpp: the thumbnails, error maps and colour bar under <experiment>/report/, and
+// report.thumbnails; the names of the files written are added to `written`.
+void make_images(Report& report, std::set<std::string>& written);
+
+// plots.cpp: report.plots (trade-off, reference convergence, one per swept knob).
+void make_plots(Report& report);
+
+// ---------------------------------------------------------------------------------------------------
+// tables.cpp: the tables that HTML and Markdown both show, as cells.
+
+// A cell's text and whether it is the best of its column.
+struct Cell {
+  std::string text;
+  bool best = false;
+  bool numeric = false;
+  bool warn = false;
+  std::string undefined = {};  // why the cell has no value: shown as a footnote (and, in HTML, on hover)
+};
+
+struct Table {
+  std::vector<std::string> header;
+  std::vector<std::string> header_notes;  // tooltip text for HTML headers (may be empty)
+  std::vector<std::vector<Cell>> rows;
+};
+
+// The timing columns of the results table (record name, header), also the first of results.csv.
+inline constexpr const char* kTimingColumns[][2] = {{"frame_ms_median", "frame ms median"},
+                                                    {"update_ms_median", "update ms median"},
+                                                    {"update_ms_min", "update ms min"},
+                                                    {"render_ms_median", "render ms median"},
+                                                    {"render_ms_min", "render ms min"}};
+
+Table results_table(const Report& report);  // the ok runs, grouped by method
+Table failed_table(const Report& report);   // the runs whose status is not ok
+Table paper_table(const Report& report);    // experiment.json "paper": its values beside ours
+
+// The distinct reasons of a table's undefined cells, in the order they first appear: its footnotes.
+std::vector<std::string> undefined_notes(const Table& table);
+// The footnote number (from 1) of `note`.
+size_t note_number(const std::vector<std::string>& notes, const std::string& note);
+
+// ---------------------------------------------------------------------------------------------------
+// claim_evidence.cpp: what the report says of each checked claim.
+
+enum class Format { plain, markdown, html };
+
+// Why the claim has its verdict, with the numbers that decided it.
+std::string claim_evidence(const Report& report, const ClaimResult& result, Format format);
+// The claim as experiment.json states it, with "verdict", "evidence" (plain text) and "details".
+json claim_json(const Report& report, const ClaimResult& result);
+// "3 of 4 claims confirmed (1 not confirmed).": the summary's line, empty without claims.
+std::string claims_count_text(const Report& report);
+
+// ---------------------------------------------------------------------------------------------------
+// findings.cpp: the summary at the top of the report.
+
+// "relmse 0.012", "relmse undefined", or "empty reference": the primary metric under a run's picture.
+std::string primary_caption(const Report& report, const Run& run);
+// The experiment's facts beside the environment: source, scene, resolution, frames, references, ...
+std::vector<std::pair<std::string, std::string>> experiment_facts(const Report& report);
+// One-line findings: run counts, claims, and per variant the best, fastest, overall front, noise floor.
+std::vector<std::string> findings(const Report& report, bool html);
+
+// ---------------------------------------------------------------------------------------------------
+// The writers: each returns the whole file.
+
+std::string markdown_document(const Report& report);  // markdown_writer.cpp: report.md
+std::string html_document(const Report& report);      // html_writer.cpp: report.html
+std::string results_csv(const Report& report);        // csv_writer.cpp: results.csv
+std::string results_json(const Report& report);       // json_writer.cpp: results.json
+
+}  // namespace causticbench::report_detail
