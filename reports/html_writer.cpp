@@ -181,7 +181,9 @@ std::string html_document(const Report& report) {
     }
     out += "<div class=\"grid\">\n";
     for (const Thumbnail& thumb : report.thumbnails) {
-      out += std::string("<div class=\"card") + (thumb.reference ? " reference" : "") + "\"><div class=\"title\">" +
+      // Three pictures (E_c, |delta|, FLIP) need a wider card than two.
+      out += std::string("<div class=\"card") + (thumb.reference ? " reference" : "") +
+             (thumb.flip_png.empty() ? "" : " triple") + "\"><div class=\"title\">" +
              html_escape(thumb.title) + "</div><div class=\"pair\">";
       if (!thumb.ec_png.empty())
         out += "<div><img src=\"report/" + thumb.ec_png + "\" alt=\"E_c " + html_escape(thumb.title) +
