@@ -306,11 +306,17 @@ void make_sweep_plots(Report& report) {
     std::vector<size_t> runs;
     bool numeric = true;
     std::vector<double> xs, values;
+    // The knob's value as resolved (typed) in the record, not the swept text ("300" would sort after
+    // "10000"): numbers make a numeric, ordered axis.
+    auto value_of = [&](const Run& run) {
+      json knobs = run_knobs(run);
+      return knobs.contains(knob) ? knobs[knob] : run.swept()[knob];
+    };
     for (size_t i : report.ok_runs()) {
       const Run& run = report.runs[i];
       if (!methods.count(run.method) || !run.swept().contains(knob) || !finite(run.metric(report.primary))) continue;
       runs.push_back(i);
-      const json& x = run.swept()[knob];
+      const json x = value_of(run);
       if (x.is_number())
         xs.push_back(x.get<double>());
       else
@@ -325,19 +331,35 @@ void make_sweep_plots(Report& report) {
       log_x = *low > 0.0 && *high / *low >= 20.0;
     }
     bool log_y = all_positive(values);
+    // A line holds the runs of one method whose other knobs are all equal: swept ones, and fixed ones
+    // that differ between its entries (pinhole with and without filtering), and the variant.
+    std::map<std::string, std::set<std::string>> varying;  // method -> knobs other than `knob` that vary
+    {
+      std::map<std::string, std::map<std::string, std::set<std::string>>> seen;
+      for (size_t i : runs) {
+        const json knobs = run_knobs(report.runs[i]);  // named: items() would outlive a temporary
+        for (const auto& [name, value] : knobs.items()) {
+          // receiver_pixels follows the variant: not a knob of its own.
+          if (name != knob && name != "receiver_pixels") seen[report.runs[i].method][name].insert(value.dump());
+        }
+      }
+      for (const auto& [method, by_knob] : seen)
+        for (const auto& [name, texts] : by_knob)
+          if (texts.size() > 1) varying[method].insert(name);
+    }
     json rows = json::array();
     std::set<std::string> others_seen;
     for (size_t i : runs) {
       const Run& run = report.runs[i];
       json others = json::object();
-      for (const auto& [name, value] : run.swept().items())
-        if (name != knob) others[name] = value;
-      if (report.multi() && knob != "variant") others["variant"] = run.variant;  // one line per variant
+      const json knobs = run_knobs(run);
+      for (const std::string& name : varying[run.method])
+        others[name] = knobs.contains(name) ? knobs[name] : json("\u2014");
       std::string others_text = knobs_text(others);
       if (others_text.empty()) others_text = "\u2014";
       others_seen.insert(run.method + "|" + others_text);
       json row = run_row(report, i);
-      row["x"] = numeric ? run.swept()[knob] : json(value_text(run.swept()[knob]));
+      row["x"] = numeric ? value_of(run) : json(value_text(value_of(run)));
       row["others"] = others_text;
       row["series"] = run.method + " " + others_text;
       rows.push_back(row);
@@ -365,11 +387,11 @@ void make_sweep_plots(Report& report) {
     std::vector<std::string> method_list(methods.begin(), methods.end());
     json spec = base_spec(fmt::format("{} versus {}", report.primary, knob),
                           fmt::format("swept by {}; one line per method{}", join(method_list, ", "),
-                                      dashed ? " and combination of its other swept knobs (dash)" : ""));
+                                      dashed ? " and combination of its other knobs (dash)" : ""));
     spec["layer"] = layers;
     report.plots.push_back({"plot-sweep-" + file_safe(knob),
                             fmt::format("The primary metric of every run that sweeps {}, against its value; the "
-                                        "other knobs of a line are fixed.",
+                                        "other knobs of a line are equal (swept or fixed, as its dash says).",
                                         knob),
                             spec});
   }

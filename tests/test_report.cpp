@@ -690,6 +690,38 @@ TEST_F(ReportTest, RejectsFoldersThatAreNotExperiments) {
   EXPECT_THROW(write_report(folder.string()), InputError);
 }
 
+// The spec of one plot of report.html, as the page's script gets it.
+json plot_spec(const std::string& page, const std::string& id) {
+  size_t at = page.find("[\"" + id + "\", ");
+  if (at == std::string::npos) return nullptr;
+  std::string line = page.substr(at, page.find('\n', at) - at);
+  if (!line.empty() && line.back() == ',') line.pop_back();
+  return json::parse(line)[1];
+}
+
+// The runner stores swept values as text ("400"); the sweep plot must still order them as numbers (400
+// after 100, not as text), and runs that differ in a fixed knob (pinhole filtering) are separate lines.
+TEST_F(ReportTest, SweepPlotsAreNumericAndSplitByEveryDifferingKnob) {
+  for (const char* key : {"pin_100", "pin_400"}) {
+    fs::path path = folder / "runs" / key / "record.json";
+    json record = json::parse(read_text(path));
+    record["swept"]["samples"] = record["swept"]["samples"].dump();  // as text, as the runner writes it
+    record["frame"] = {{"samples", record["swept"]["samples"] == "100" ? 100 : 400}};
+    record["build"]["filtering"] = std::string(key) == "pin_100" ? "none" : "anisotropic";
+    write_json(path, record);
+  }
+  ReportSummary summary = write_report(folder.string());
+  json spec = plot_spec(read_text(summary.html), "plot-sweep-samples");
+  ASSERT_TRUE(spec.is_object());
+  const json& line = spec["layer"][0];
+  EXPECT_EQ(line["encoding"]["x"]["type"], "quantitative") << line["encoding"]["x"].dump();
+  std::map<double, std::string> series;  // x -> series
+  for (const json& row : line["data"]["values"]) series[row["x"].get<double>()] = row["series"];
+  ASSERT_EQ(series.size(), 2u);
+  EXPECT_EQ(series[100], "pinhole filtering=none");
+  EXPECT_EQ(series[400], "pinhole filtering=anisotropic");
+}
+
 // The plots must render from file:// with no network: run headless Chromium on report.html.
 TEST_F(ReportTest, PlotsRenderOfflineInChromium) {
   const char* chromium = "/usr/bin/chromium";
