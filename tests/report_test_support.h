@@ -1,7 +1,9 @@
-// Helpers shared by the report tests (test_report.cpp, test_report_variants.cpp): reading and
-// writing the synthetic results folder, CSV cells, word counts, the DOM Chromium renders, test images.
+// Helpers shared by the report tests (test_report.cpp, test_report_pictures.cpp,
+// test_report_variants.cpp): the synthetic results folder and its fixture ReportTest, reading and
+// writing it, CSV cells, word counts, the DOM Chromium renders, test images.
 #pragma once
 
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -134,4 +136,194 @@ inline const char* const kFailure = "out of memory: photon buffer exceeded 2 GiB
 //     R^2 = 256/259 >= 0.98; k=10 has 1 point and is not fitted                          confirmed
 //   5 linear frame_ms in samples among pinhole: 2 ok points                              not measured
 //   6 linear render_ms in photons among photon_map,k=50 with min_r2 0.99: 256/259 < 0.99 not confirmed
+// The synthetic results folder above, written afresh for each test (removed after a passing one, unless
+// CAUSTICBENCH_KEEP_REPORT is set).
+class ReportTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root = fs::temp_directory_path() / ("causticbench_report_test_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(root);
+    folder = root / "results" / "wand_cup";
+    runs = {
+        {"pm_1e4",
+         "photon_map",
+         {{"photons", 10000}, {"seed", 1}},
+         {{"k", 50}, {"max_radius", 0.1}},
+         {{"photons", 10000}, {"k", 50}},
+         0.1,
+         5.0},
+        {"pm_1e5",
+         "photon_map",
+         {{"photons", 100000}, {"seed", 1}},
+         {{"k", 50}, {"max_radius", 0.1}},
+         {{"photons", 100000}, {"k", 50}},
+         0.0123456789012345,
+         12.0},
+        {"pm_1e6",
+         "photon_map",
+         {{"photons", 1000000}, {"seed", 1}},
+         {{"k", 50}, {"max_radius", 0.1}},
+         {{"photons", 1000000}, {"k", 50}},
+         0.005,
+         40.0},
+        {"pm_1e5_k10",
+         "photon_map",
+         {{"photons", 100000}, {"seed", 1}},
+         {{"k", 10}, {"max_radius", 0.1}},
+         {{"photons", 100000}, {"k", 10}},
+         0.05,
+         14.0},
+        {"pin_100", "pinhole", {{"resolution", 64}}, {{"samples", 100}}, {{"samples", 100}}, 0.03, 8.0},
+        {"pin_400", "pinhole", {{"resolution", 64}}, {{"samples", 400}}, {{"samples", 400}}, 0.04, 30.0},
+        {"pin_1600", "pinhole", {{"resolution", 64}}, {{"samples", 1600}}, {{"samples", 1600}}, 0.0, 0.0, true},
+    };
+    json keys = json::array();
+    for (const FakeRun& run : runs) keys.push_back(run.key);
+    keys.push_back("never_ran");
+    write_json(folder / "experiment.json", {{"name", "wand_cup"},
+                                            {"source", "configs/experiments/wand_cup.yaml"},
+                                            {"description", "Synthetic experiment of the report test."},
+                                            {"scene", "configs/scenes/ring.yaml"},
+                                            {"resolution", {384, 288}},
+                                            {"frames", {0}},
+                                            {"repetitions", 3},
+                                            {"metrics", {"relmse", "rmse", "psnr", "energy_ratio"}},
+                                            {"primary_metric", "relmse"},
+                                            {"reference_key", "ref123"},
+                                            {"runs", keys},
+                                            {"paper",
+                                             {{"title", "Wand 2003, Fig. 4"},
+                                              {"columns", {"render_ms"}},
+                                              {"rows",
+                                               {{{"method", "pinhole"},
+                                                 {"match", {{"samples", 100}}},
+                                                 {"values", {{"render_ms", 135}}},
+                                                 {"note", "Radeon 9700"}},
+                                                {{"method", "pinhole"},
+                                                 {"match", {{"samples", 6400}}},
+                                                 {"values", {{"render_ms", 900}}},
+                                                 {"note", "the largest cup"}},
+                                                {{"method", "photon_map"},
+                                                 {"match", {{"photons", 100000}, {"k", 50}}},
+                                                 {"values", {{"render_ms", 20}}},
+                                                 {"note", "CPU"}}}}}},
+                                            {"claims", claims()}});
+    write_json(folder / "environment.json", {{"machine", "test-host"},
+                                             {"cpu", {{"model", "Synthetic CPU"}, {"cores", 16}}},
+                                             {"threads", 16},
+                                             {"compiler", "GCC 12"},
+                                             {"build_type", "Release"},
+                                             {"git_revision", "abcdef123456"}});
+    fs::path reference = root / "results" / "references" / "ref123";
+    json history = json::array();
+    for (int pass = 1; pass <= 8; ++pass)
+      history.push_back(
+          {{"pass", pass}, {"photons", 2000000 * pass}, {"seconds", 0.4 * pass}, {"noise_floor", 4e-3 / pass}});
+    write_json(reference / "record.json",
+               {{"method", "reference"}, {"passes", 8}, {"seconds", 3.2}, {"noise_floor", 5e-4}, {"history", history}});
+    fs::create_directories(reference);
+    write_exr(blob(0.0), (reference / "frame_0000.exr").string());
+
+    for (const FakeRun& run : runs) write_run(run);
+  }
+
+  static json claims() {
+    return json::array(
+        {{{"text", "More photons at k=50 give the least error"},
+          {"kind", "best"},
+          {"metric", "relmse"},
+          {"among", "method=photon_map"},
+          {"expect", "k=50"}},
+         {{"text", "400 samples give the sharpest image"},
+          {"kind", "best"},
+          {"metric", "psnr"},
+          {"among", "method=pinhole"},
+          {"expect", "samples=400"}},
+         {{"text", "10^4 photons are faster than any pinhole run"},
+          {"kind", "better"},
+          {"metric", "frame_ms"},
+          {"run", "method=photon_map,photons=10000"},
+          {"than", "method=pinhole"}},
+         {{"text", "1600 samples beat photon mapping"},
+          {"kind", "better"},
+          {"metric", "relmse"},
+          {"run", "samples=1600"},
+          {"than", "method=photon_map"}},
+         {{"text", "Render time grows linearly with photons"},
+          {"kind", "linear"},
+          {"x", "photons"},
+          {"y", "render_ms"},
+          {"among", "method=photon_map"},
+          {"min_r2", 0.98}},
+         {{"text", "Pinhole time is linear in samples"},
+          {"kind", "linear"},
+          {"x", "samples"},
+          {"y", "frame_ms"},
+          {"among", "method=pinhole"},
+          {"min_r2", 0.98}},
+         {{"text", "Render time is tightly linear in photons"},
+          {"kind", "linear"},
+          {"x", "photons"},
+          {"y", "render_ms"},
+          {"among", "method=photon_map,k=50"},
+          {"min_r2", 0.99}}});
+  }
+
+  // runs/<key>/record.json (and the frame of an ok run), as the experiment runner stores them.
+  void write_run(const FakeRun& run) const {
+    fs::path run_folder = folder / "runs" / run.key;
+    fs::create_directories(run_folder);
+    json record = {{"key", run.key},     {"method", run.method}, {"label", label(run)},
+                   {"build", run.build}, {"render", run.render}, {"swept", run.swept}};
+    if (run.failed) {
+      record["status"] = "failed";
+      record["error"] = kFailure;
+    } else {
+      double render = run.frame_ms * 0.75;
+      json metrics = {{"relmse", run.relmse},
+                      {"rmse", std::sqrt(run.relmse)},
+                      {"psnr", 20.0 - 10.0 * std::log10(run.relmse)},
+                      {"energy_ratio", 1.0 - run.relmse},
+                      {"nonfinite_pixels", 0}};
+      record.update({{"status", "ok"},
+                     {"error", ""},
+                     {"frames",
+                      {{{"frame", 0},
+                        {"image", "frame_0000.exr"},
+                        {"update_ms", {run.frame_ms * 0.25}},
+                        {"render_ms", {render}},
+                        {"metrics", metrics}}}},
+                     {"prepare_seconds", 0.5},
+                     {"timings",
+                      {{"update_ms_min", run.frame_ms * 0.24},
+                       {"update_ms_median", run.frame_ms * 0.25},
+                       {"render_ms_min", render * 0.99},
+                       {"render_ms_median", render},
+                       {"frame_ms_min", run.frame_ms * 0.99},
+                       {"frame_ms_median", run.frame_ms}}},
+                     {"metrics", metrics},
+                     {"memory_bytes", 4800000},
+                     {"peak_rss_bytes", 123456789},
+                     {"counters", {{"photons_emitted", 12345}}},
+                     {"method_record", json::object()}});
+      write_exr(blob(std::sqrt(run.relmse)), (run_folder / "frame_0000.exr").string());
+    }
+    write_json(run_folder / "record.json", record);
+  }
+
+  void TearDown() override {
+    if (!::testing::Test::HasFailure() && !getenv("CAUSTICBENCH_KEEP_REPORT")) fs::remove_all(root);
+  }
+
+  const FakeRun& run(const std::string& key) const {
+    for (const FakeRun& r : runs)
+      if (r.key == key) return r;
+    throw std::logic_error(key);
+  }
+
+  fs::path root, folder;
+  std::vector<FakeRun> runs;
+};
+
 }  // namespace causticbench::report_testing

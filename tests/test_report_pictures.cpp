@@ -1,0 +1,114 @@
+// The report's pictures and plots on the synthetic results folder of report_test_support.h: every file
+// written, thumbnails and error maps, HDR-FLIP maps, the sweep plots' axes and lines, and (when Chromium
+// is installed) that the Vega-Lite plots render offline.
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "reports/report.h"
+#include "tests/report_test_support.h"
+
+namespace causticbench {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using namespace report_testing;
+
+TEST_F(ReportTest, WritesEveryFile) {
+  ReportSummary summary = write_report(folder.string());
+  EXPECT_EQ(summary.runs, 7u);
+  EXPECT_EQ(summary.failed, 1u);
+  EXPECT_EQ(summary.missing, 1u);
+  EXPECT_EQ(summary.plots, 5u);  // trade-off, convergence, sweeps of photons, k and samples
+  for (const std::string& path : {summary.html, summary.markdown, summary.csv, summary.json})
+    EXPECT_TRUE(fs::is_regular_file(path)) << path;
+  for (const char* file :
+       {"reference.png", "pm_1e5.png", "pm_1e5_error.png", "pin_100.png", "pin_100_error.png", "error_colour_bar.png",
+        "vendor/vega.min.js", "vendor/vega-lite.min.js", "vendor/vega-embed.min.js"})
+    EXPECT_TRUE(fs::is_regular_file(folder / "report" / file)) << file;
+  EXPECT_FALSE(fs::exists(folder / "report" / "pin_1600.png")) << "failed runs have no pictures";
+  EXPECT_FALSE(fs::exists(folder / "report" / "pm_1e5_flip.png")) << "no FLIP map where flip is not measured";
+  // Thumbnails are shrunk to 256 pixels wide, keeping the aspect ratio.
+  for (const char* file : {"reference.png", "pm_1e5.png", "pm_1e5_error.png"}) {
+    cv::Mat picture = cv::imread((folder / "report" / file).string());
+    EXPECT_EQ(picture.cols, 256) << file;
+    EXPECT_EQ(picture.rows, 192) << file;
+  }
+}
+
+// Where the experiment measures flip, every run with an error map also has its HDR-FLIP map, in [0, 1]
+// as the metric defines it: black where test and reference agree, brighter where they differ more.
+TEST_F(ReportTest, FlipMapsBesideTheErrorMapsWhenFlipIsMeasured) {
+  json experiment = json::parse(read_text(folder / "experiment.json"));
+  experiment["metrics"].push_back("flip");
+  write_json(folder / "experiment.json", experiment);
+  ReportSummary summary = write_report(folder.string());
+  for (const char* file : {"pm_1e4_flip.png", "pm_1e6_flip.png", "pin_100_flip.png", "flip_colour_bar.png"})
+    EXPECT_TRUE(fs::is_regular_file(folder / "report" / file)) << file;
+  EXPECT_FALSE(fs::exists(folder / "report" / "reference_flip.png"));
+  EXPECT_FALSE(fs::exists(folder / "report" / "pin_1600_flip.png")) << "failed runs have no pictures";
+  // pm_1e4 (relmse 0.1) differs more from the reference than pm_1e6 (relmse 0.005): a brighter map.
+  auto brightness = [&](const char* file) { return cv::mean(cv::imread((folder / "report" / file).string()))[0]; };
+  EXPECT_GT(brightness("pm_1e4_flip.png"), brightness("pm_1e6_flip.png") + 1.0);
+  std::string page = read_text(summary.html), md = read_text(summary.markdown);
+  EXPECT_NE(page.find("src=\"report/pm_1e4_flip.png\""), std::string::npos);
+  EXPECT_NE(page.find("Right: the HDR-FLIP error map"), std::string::npos);
+  EXPECT_NE(md.find("| run | E_c | error | FLIP | |"), std::string::npos);
+  EXPECT_NE(md.find("![FLIP](report/pm_1e4_flip.png)"), std::string::npos);
+}
+
+// The spec of one plot of report.html, as the page's script gets it.
+json plot_spec(const std::string& page, const std::string& id) {
+  size_t at = page.find("[\"" + id + "\", ");
+  if (at == std::string::npos) return nullptr;
+  std::string line = page.substr(at, page.find('\n', at) - at);
+  if (!line.empty() && line.back() == ',') line.pop_back();
+  return json::parse(line)[1];
+}
+
+// The runner stores swept values as text ("400"); the sweep plot must still order them as numbers (400
+// after 100, not as text), and runs that differ in a fixed knob (pinhole filtering) are separate lines.
+TEST_F(ReportTest, SweepPlotsAreNumericAndSplitByEveryDifferingKnob) {
+  for (const char* key : {"pin_100", "pin_400"}) {
+    fs::path path = folder / "runs" / key / "record.json";
+    json record = json::parse(read_text(path));
+    record["swept"]["samples"] = record["swept"]["samples"].dump();  // as text, as the runner writes it
+    record["frame"] = {{"samples", record["swept"]["samples"] == "100" ? 100 : 400}};
+    record["build"]["filtering"] = std::string(key) == "pin_100" ? "none" : "anisotropic";
+    write_json(path, record);
+  }
+  ReportSummary summary = write_report(folder.string());
+  json spec = plot_spec(read_text(summary.html), "plot-sweep-samples");
+  ASSERT_TRUE(spec.is_object());
+  const json& line = spec["layer"][0];
+  EXPECT_EQ(line["encoding"]["x"]["type"], "quantitative") << line["encoding"]["x"].dump();
+  std::map<double, std::string> series;  // x -> series
+  for (const json& row : line["data"]["values"]) series[row["x"].get<double>()] = row["series"];
+  ASSERT_EQ(series.size(), 2u);
+  EXPECT_EQ(series[100], "pinhole filtering=none");
+  EXPECT_EQ(series[400], "pinhole filtering=anisotropic");
+}
+
+// The plots must render from file:// with no network: run headless Chromium on report.html.
+TEST_F(ReportTest, PlotsRenderOfflineInChromium) {
+  const char* chromium = "/usr/bin/chromium";
+  if (!fs::exists(chromium)) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh installs it)";
+  ReportSummary summary = write_report(folder.string());
+  ASSERT_GE(summary.plots, 5u);
+  std::string dom = chromium_dom(summary.html);
+  ASSERT_FALSE(dom.empty()) << "chromium produced no DOM";
+  EXPECT_GE(count(dom, "class=\"marks\""), summary.plots) << "every plot is drawn as an SVG";
+  EXPECT_EQ(count(dom, "class=\"plot-error\""), 0u) << "vega-embed reported an error";
+  EXPECT_EQ(dom.find("Error"), std::string::npos) << "vega-embed reported an error";
+  // The SVG holds the plotted points (one path per symbol) and the noise floor label.
+  EXPECT_NE(dom.find("reference noise floor"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace causticbench
