@@ -33,7 +33,7 @@ struct ExperimentOptions {
 };
 
 int run_experiment_command(const ExperimentOptions& options);
-int run_report(const std::string& folder);
+int run_report(const std::string& folder, bool recompute_metrics = false);
 int run_gpu_compare(const std::string& folder);
 int run_list();
 int run_describe(const std::string& method, bool markdown);

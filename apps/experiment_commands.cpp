@@ -4,6 +4,7 @@
 
 #include "apps/commands.h"
 #include "core/parallel.h"
+#include "experiments/recompute_metrics.h"
 #include "experiments/result_store.h"
 #include "experiments/runner.h"
 #include "reports/report.h"
@@ -33,7 +34,13 @@ int run_experiment_command(const ExperimentOptions& options) {
   return 0;
 }
 
-int run_report(const std::string& folder) {
+int run_report(const std::string& folder, bool recompute_metrics) {
+  if (recompute_metrics) {
+    RecomputeSummary recomputed = causticbench::recompute_metrics(folder);
+    for (const std::string& problem : recomputed.problems) fmt::print(stderr, "warning: {}\n", problem);
+    fmt::print("metrics recomputed for {} runs ({} skipped: failed, missing or not matching their images)\n",
+               recomputed.recomputed, recomputed.skipped);
+  }
   ReportSummary report = write_report(folder);
   fmt::print("report: {} ({} runs, {} failed)\n", report.html, report.runs, report.failed);
   fmt::print("also: {}, {}, {}\n", report.markdown, report.csv, report.json);

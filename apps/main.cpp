@@ -72,6 +72,10 @@ int main(int argc, char** argv) {
   CLI::App* report_command = app.add_subcommand(
       "report", "Write report.html, report.md, results.csv and results.json for RESULTS/<experiment>/ from the stored runs.");
   report_command->add_option("folder", report_folder, "an experiment's results folder")->required();
+  bool recompute_metrics = false;
+  report_command->add_flag("--recompute-metrics", recompute_metrics,
+                           "first compute every metric of experiment.json again from the stored images (after a metric\n"
+                           "was added or fixed), rewriting each run's record atomically; no method is run");
 
   std::string compare_folder;
   CLI::App* compare_command = app.add_subcommand(
@@ -99,7 +103,7 @@ int main(int argc, char** argv) {
   try {
     if (*render_command) return run_render(render);
     if (*run_command) return run_experiment_command(experiment);
-    if (*report_command) return run_report(report_folder);
+    if (*report_command) return run_report(report_folder, recompute_metrics);
     if (*compare_command) return run_gpu_compare(compare_folder);
     if (*list_command) return run_list();
     if (*describe_command) return run_describe(describe_name, markdown);

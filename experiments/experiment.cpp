@@ -237,84 +237,6 @@ void check_experiment_name(const ConfigNode& root, const std::string& name) {
   }
 }
 
-nlohmann::json read_paper(const ConfigNode& node) {
-  nlohmann::json paper = nlohmann::json::object();
-  paper["title"] = node.string("title");
-  paper["columns"] = nlohmann::json::array();
-  ConfigNode columns = node.child("columns");
-  for (size_t i = 0; i < columns.size(); ++i) paper["columns"].push_back(columns.at(i).as_string());
-  paper["rows"] = nlohmann::json::array();
-  ConfigNode rows = node.child("rows");
-  for (size_t i = 0; i < rows.size(); ++i) {
-    ConfigNode row = rows.at(i);
-    nlohmann::json out;
-    std::string method = row.string("method");
-    const MethodInfo* info = nullptr;
-    try {
-      info = &find_method(method).info();  // a paper row for an unknown method is a typo
-    } catch (const InputError& error) {
-      throw InputError(fmt::format("{}: {}", row.location_of("method").describe(), error.what()));
-    }
-    out["method"] = method;
-    out["match"] = nlohmann::json::object();
-    if (std::optional<ConfigNode> match = row.optional_child("match")) {
-      // Resolved like knobs, so that a typo is caught and values compare by type (100 == 1e2).
-      ParamDict dict;
-      dict.set_from_config(*match);
-      nlohmann::json resolved = dict.resolve(info->params, method).to_json();
-      for (const std::string& key : match->keys()) out["match"][key] = resolved[key];
-    }
-    out["values"] = nlohmann::json::object();
-    ConfigNode values = row.child("values");
-    for (const std::string& key : values.keys()) out["values"][key] = values.child(key).as_number();
-    out["note"] = row.string_or("note", "");
-    row.finish();
-    paper["rows"].push_back(out);
-  }
-  node.finish();
-  return paper;
-}
-
-nlohmann::json read_claims(const ConfigNode& node, const std::vector<std::string>& metrics) {
-  nlohmann::json claims = nlohmann::json::array();
-  const std::vector<std::string> quantities = {"render_ms", "update_ms", "frame_ms", "prepare_seconds", "memory_bytes"};
-  auto quantity = [&](const ConfigNode& claim, const std::string& key) {
-    std::string name = claim.string(key);
-    bool known = std::find(metrics.begin(), metrics.end(), name) != metrics.end() ||
-                 std::find(quantities.begin(), quantities.end(), name) != quantities.end();
-    if (!known) {
-      std::vector<std::string> all = metrics;
-      all.insert(all.end(), quantities.begin(), quantities.end());
-      claim.fail(key, "one of the experiment's metrics or " + join(quantities, ", ") + did_you_mean(name, all), "'" + name + "'");
-    }
-    return name;
-  };
-  for (size_t i = 0; i < node.size(); ++i) {
-    ConfigNode claim = node.at(i);
-    nlohmann::json out;
-    out["text"] = claim.string("text");
-    std::string kind = claim.choice("kind", {"best", "better", "linear"});
-    out["kind"] = kind;
-    if (kind == "best") {
-      out["metric"] = quantity(claim, "metric");
-      out["among"] = claim.string("among");
-      out["expect"] = claim.string("expect");
-    } else if (kind == "better") {
-      out["metric"] = quantity(claim, "metric");
-      out["run"] = claim.string("run");
-      out["than"] = claim.string("than");
-    } else {
-      out["x"] = claim.string("x");
-      out["y"] = quantity(claim, "y");
-      out["among"] = claim.string("among");
-      out["min_r2"] = claim.number_or("min_r2", 0.98, 0.0, 1.0);
-    }
-    claim.finish();
-    claims.push_back(out);
-  }
-  return claims;
-}
-
 }  // namespace
 
 nlohmann::json Experiment::to_json() const {
@@ -342,8 +264,12 @@ nlohmann::json Experiment::to_json() const {
           {"reference", reference_params.to_json()},
           {"reference_key", variants.front().reference_key},
           {"runs", runs_json},
-          {"paper", paper},
-          {"claims", claims},
+          {"paper", report.paper},
+          {"claims", report.claims},
+          {"tradeoffs", report.tradeoffs_json()},
+          {"budgets_ms", report.budgets_ms},
+          {"error_targets", report.error_targets},
+          {"total_cost_frames", report.total_cost_frames},
           {"empty_reference_expected", empty_reference_expected}};
 }
 
@@ -528,10 +454,7 @@ Experiment load_experiment(const std::string& path) {
       }
     }
   }
-  experiment.paper = nullptr;
-  if (std::optional<ConfigNode> paper = root.optional_child("paper")) experiment.paper = read_paper(*paper);
-  experiment.claims = nlohmann::json::array();
-  if (std::optional<ConfigNode> claims = root.optional_child("claims")) experiment.claims = read_claims(*claims, experiment.metrics);
+  experiment.report = read_report_settings(root, experiment.metrics, experiment.primary_metric);
   root.finish();
   return experiment;
 }

@@ -11,6 +11,7 @@
 
 #include "core/hash.h"
 #include "core/scene.h"
+#include "experiments/report_settings.h"
 #include "methods/param_dict.h"
 #include "methods/registry.h"
 
@@ -54,8 +55,7 @@ struct Experiment {
   std::string primary_metric = "relmse";
   ParamSet reference_params;
   std::vector<RunSpec> runs;
-  nlohmann::json paper;      // null when absent
-  nlohmann::json claims;     // array (possibly empty): the paper's claims the report checks
+  ReportSettings report;     // paper, claims, trade-offs, budgets: what the report compares (report_settings.h)
   // `empty_reference_expected: true`: an extremes experiment that means to run against a reference with no
   // caustic in view. Without it such a reference stops the run before any method runs; with it the runs
   // are stored and reported as "empty reference", not scored. It changes how runs are judged, not what
@@ -101,5 +101,7 @@ void check_filter_terms(const Experiment& experiment, const std::string& filter)
 nlohmann::json record_knobs(const nlohmann::json& record);
 // --filter on a stored record.json (its method, label and record_knobs).
 bool record_matches_filter(const nlohmann::json& record, const std::string& filter);
+struct RunRecord;  // experiments/run_record.h
+bool record_matches_filter(const RunRecord& record, const std::string& filter);
 
 }  // namespace causticbench

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "experiments/run_record.h"
 #include "experiments/store_files.h"
 
 namespace causticbench {
@@ -71,28 +72,17 @@ std::string image_problem(const nlohmann::json& record, const std::string& run_f
 }  // namespace
 
 std::string run_record_problem(const nlohmann::json& record, const std::string& run_folder) {
-  if (!record.is_object()) return fmt::format("it is {}, not a JSON object", record.type_name());
-  std::string problem = schema_problem(record, {{"key", Kind::string},
-                                                {"status", Kind::string},
-                                                {"error", Kind::string},
-                                                {"method", Kind::string},
-                                                {"label", Kind::string}});
-  if (!problem.empty()) return problem;
-  std::string folder_name = fs::path(run_folder).filename().string();
-  if (record["key"] != folder_name) {
-    return fmt::format("its key is '{}', but its folder is {}", record["key"].get<std::string>(), folder_name);
+  RunRecord parsed;
+  try {
+    parsed = RunRecord::from_json(record);
+  } catch (const RecordError& error) {
+    return error.what();
   }
-  const std::string status = record["status"];
-  if (status == "failed") return "";
-  if (status != "ok") return fmt::format("its status is '{}', expected ok or failed", status);
-  problem = schema_problem(record, {{"frames", Kind::array}, {"metrics", Kind::object}, {"timings", Kind::object}});
-  if (!problem.empty()) return problem;
-  if (record["frames"].empty()) return "an ok record with no frame";
-  for (const nlohmann::json& frame : record["frames"]) {
-    if (!frame.is_object()) return "an entry of 'frames' is not an object";
-    problem = schema_problem(frame, {{"frame", Kind::integer}, {"image", Kind::string}}, "frames[]: ");
-    if (!problem.empty()) return problem;
-    problem = image_problem(record, run_folder, frame["image"].get<std::string>());
+  std::string folder_name = fs::path(run_folder).filename().string();
+  if (parsed.key != folder_name) return fmt::format("its key is '{}', but its folder is {}", parsed.key, folder_name);
+  if (!parsed.ok()) return "";
+  for (const FrameRecord& frame : parsed.frames) {
+    std::string problem = image_problem(record, run_folder, frame.image);
     if (!problem.empty()) return problem;
   }
   return "";

@@ -11,11 +11,10 @@
 
 namespace causticbench {
 
-// Why a run's record.json, parsed, cannot be used ("" when it can): a run record is an object with
-// key (the folder's name), status ("ok" or "failed"), error, method and label (strings); an ok one also
-// has frames (one object per frame with frame and image), metrics and timings (objects), and every image
-// it names is in `run_folder`, matching its checksum under "images" (records written before checksums
-// carry none and are checked for presence only).
+// Why a run's record.json, parsed, cannot be used ("" when it can): it reads as a RunRecord
+// (experiments/run_record.h: every field of its type, a version this build knows), its key is the
+// folder's name, and every image an ok one names is in `run_folder`, matching its checksum under
+// "images" (records written before checksums carry none and are checked for presence only).
 std::string run_record_problem(const nlohmann::json& record, const std::string& run_folder);
 
 // Why a reference frame's record_NNNN.json, parsed, cannot be used ("" when it can): frame (== `frame`),

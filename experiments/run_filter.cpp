@@ -8,6 +8,7 @@
 
 #include "core/errors.h"
 #include "experiments/experiment.h"
+#include "experiments/run_record.h"
 
 namespace causticbench {
 
@@ -90,6 +91,10 @@ nlohmann::json record_knobs(const nlohmann::json& record) {
 
 bool record_matches_filter(const nlohmann::json& record, const std::string& filter) {
   return matches_filter(record.value("method", ""), record.value("label", ""), record_knobs(record), filter);
+}
+
+bool record_matches_filter(const RunRecord& record, const std::string& filter) {
+  return matches_filter(record.method, record.label, record.knobs(), filter);
 }
 
 }  // namespace causticbench

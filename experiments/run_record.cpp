@@ -1,203 +1,320 @@
-// The record of a measured run (experiments/run_record.h).
+// The run record's JSON form (declared in run_record.h; the fields: docs/results-format.md).
 #include "experiments/run_record.h"
 
-#include <sys/resource.h>
-
-#include <algorithm>
-#include <map>
-#include <optional>
+#include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
-#include "experiments/result_store.h"
-#include "metrics/metrics.h"
+#include "experiments/quantity_registry.h"
 
 namespace causticbench {
 
 namespace {
 
-size_t peak_rss_bytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<size_t>(usage.ru_maxrss) * 1024;
-}
+using nlohmann::json;
 
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  size_t n = values.size();
-  return n == 0 ? 0.0 : (n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]));
-}
-
-double minimum(const std::vector<double>& values) {
-  return values.empty() ? 0.0 : *std::min_element(values.begin(), values.end());
-}
-
-
-
-nlohmann::json prepare_json(const PrepareOutcome& prepare) {
-  nlohmann::json result = {{"source", prepare.source},
-                           {"build_key", prepare.build_key},
-                           {"prepare_seconds", prepare.prepare_seconds},
-                           {"load_seconds", prepare.load_seconds},
-                           {"save_seconds", prepare.save_seconds}};
-  if (!prepare.warning.empty()) result["warning"] = prepare.warning;
-  return result;
-}
-
-// A frame whose reference is empty is not scored: every metric of it is undefined, except the count of
-// non-finite pixels, which judges the method alone.
-void mark_empty_reference(MetricValues& values, const CausticPresence& presence) {
-  std::string reason = "empty reference: " + presence.describe();
-  for (auto it = values.values.begin(); it != values.values.end();) {
-    if (it->first == "nonfinite_pixels") {
-      ++it;
-      continue;
+// Reads the fields of one JSON object, naming the first one that is missing or of another type.
+class FieldReader {
+ public:
+  FieldReader(const json& object, std::string where) : object_(object), where_(std::move(where)) {
+    if (!object_.is_object()) throw RecordError(fmt::format("{}is {}, not a JSON object", prefix(), object_.type_name()));
+  }
+  bool has(const char* name) const { return object_.contains(name) && !object_[name].is_null(); }
+  const json& at(const char* name) const {
+    if (!object_.contains(name)) throw RecordError(fmt::format("{}field '{}' is missing", prefix(), name));
+    return object_[name];
+  }
+  std::string string(const char* name) const { return typed(name, at(name), &json::is_string, "a string"); }
+  std::string string_or(const char* name, const std::string& fallback) const { return has(name) ? string(name) : fallback; }
+  double number(const char* name) const { return typed(name, at(name), &json::is_number, "a number"); }
+  double number_or(const char* name, double fallback) const { return has(name) ? number(name) : fallback; }
+  int64_t integer(const char* name) const { return typed(name, at(name), &json::is_number_integer, "an integer"); }
+  const json& object(const char* name) const { return checked(name, at(name), &json::is_object, "an object"); }
+  const json& array(const char* name) const { return checked(name, at(name), &json::is_array, "an array"); }
+  json object_or_empty(const char* name) const { return has(name) ? object(name) : json::object(); }
+  json any_or_null(const char* name) const { return object_.contains(name) ? object_[name] : json(); }
+  std::vector<double> numbers_or_empty(const char* name) const {
+    std::vector<double> values;
+    if (!has(name)) return values;
+    for (const json& value : array(name)) values.push_back(number_value(name, value));
+    return values;
+  }
+  std::map<std::string, double> number_map(const char* name) const {
+    std::map<std::string, double> values;
+    if (!has(name)) return values;
+    for (const auto& [key, value] : object(name).items()) values[key] = number_value(name, value);
+    return values;
+  }
+  std::map<std::string, std::string> text_map(const char* name) const {
+    std::map<std::string, std::string> values;
+    if (!has(name)) return values;
+    for (const auto& [key, value] : object(name).items()) {
+      if (!value.is_string()) throw type_error(name, value, "an object of strings");
+      values[key] = value.get<std::string>();
     }
-    values.undefined[it->first] = reason;
-    it = values.values.erase(it);
+    return values;
   }
-  for (auto& [name, why] : values.undefined) why = reason;
-}
+  std::string prefix() const { return where_.empty() ? "" : where_ + ": "; }
 
-// The run's metrics over its frames: each the mean of its per-frame values (nonfinite_pixels: the sum),
-// or undefined when it is undefined on any frame, with the first such frame's reason: a mean over some of
-// the frames would not compare with other runs' means over all of them.
-struct RunMetrics {
-  std::map<std::string, double> sums;
-  std::map<std::string, double> whole_sequence;  // metrics of the sequence itself (temporal_flicker)
-  std::map<std::string, std::string> undefined;
+ private:
+  // A number, or null for a value JSON cannot hold (+inf, NaN), read as NaN.
+  double number_value(const char* name, const json& value) const {
+    if (value.is_null()) return std::numeric_limits<double>::quiet_NaN();
+    if (!value.is_number()) throw type_error(name, value, "numbers");
+    return value.get<double>();
+  }
+  RecordError type_error(const char* name, const json& value, const char* expected) const {
+    return RecordError(fmt::format("{}field '{}' holds {}, expected {}", prefix(), name, value.type_name(), expected));
+  }
+  const json& checked(const char* name, const json& value, bool (json::*test)() const noexcept, const char* expected) const {
+    if (!(value.*test)()) throw type_error(name, value, expected);
+    return value;
+  }
+  // The checked value, converted to what the caller assigns it to.
+  struct Any {
+    const json& value;
+    operator std::string() const { return value.get<std::string>(); }
+    operator double() const { return value.get<double>(); }
+    operator int64_t() const { return value.get<int64_t>(); }
+  };
+  Any typed(const char* name, const json& value, bool (json::*test)() const noexcept, const char* expected) const {
+    return Any{checked(name, value, test, expected)};
+  }
 
-  void add(int frame, bool several_frames, const MetricValues& values) {
-    for (const auto& [name, value] : values.values) sums[name] += value;
-    for (const auto& [name, why] : values.undefined) {
-      if (!undefined.count(name)) undefined[name] = several_frames ? fmt::format("frame {}: {}", frame, why) : why;
-    }
-  }
-  void add_sequence(const std::string& name, const MetricValue& value) {
-    if (value.value)
-      whole_sequence[name] = *value.value;
-    else
-      undefined[name] = value.undefined_reason;
-  }
-  nlohmann::json defined(size_t frame_count) const {
-    nlohmann::json metrics = nlohmann::json::object();
-    for (const auto& [name, sum] : sums) {
-      if (undefined.count(name)) continue;
-      metrics[name] = name == "nonfinite_pixels" ? sum : sum / static_cast<double>(frame_count);
-    }
-    for (const auto& [name, value] : whole_sequence) metrics[name] = value;
-    return metrics;
-  }
+  const json& object_;
+  std::string where_;
 };
 
-const FramePresence* find_frame(const std::vector<FramePresence>& frames, int frame) {
-  for (const FramePresence& entry : frames)
-    if (entry.frame == frame) return &entry;
-  return nullptr;
+FrameRecord read_frame(const json& stored, size_t index) {
+  FieldReader in(stored, fmt::format("frames[{}]", index));
+  FrameRecord frame;
+  frame.frame = static_cast<int>(in.integer("frame"));
+  frame.image = in.string("image");
+  frame.update_ms = in.numbers_or_empty("update_ms");
+  frame.render_ms = in.numbers_or_empty("render_ms");
+  frame.gpu_render_ms = in.numbers_or_empty("gpu_render_ms");
+  frame.metrics = in.number_map("metrics");
+  frame.metrics_undefined = in.text_map("metrics_undefined");
+  if (in.has("metric_parameters")) {
+    for (const auto& [metric, parameters] : in.object("metric_parameters").items())
+      frame.metric_parameters[metric] = FieldReader(in.object("metric_parameters"), in.prefix() + "metric_parameters")
+                                            .number_map(metric.c_str());
+  }
+  return frame;
+}
+
+json frame_json(const FrameRecord& frame) {
+  json out = {{"frame", frame.frame},
+              {"image", frame.image},
+              {"update_ms", frame.update_ms},
+              {"render_ms", frame.render_ms},
+              {"metrics", frame.metrics}};
+  if (!frame.gpu_render_ms.empty()) out["gpu_render_ms"] = frame.gpu_render_ms;
+  if (!frame.metrics_undefined.empty()) out["metrics_undefined"] = frame.metrics_undefined;
+  if (!frame.metric_parameters.empty()) out["metric_parameters"] = frame.metric_parameters;
+  return out;
 }
 
 }  // namespace
 
-// The fields that say which run a record is, for finished and failed runs alike.
-nlohmann::json run_identity(const Experiment& experiment, const RunSpec& run) {
-  const SceneVariant& variant = experiment.variants.at(run.variant);
-  return {{"key", run.key},
-          {"method", run.method},
-          {"label", run.label},
-          {"variant", variant.name},
-          {"reference_key", variant.reference_key},
-          {"build", run.build.to_json()},
-          {"frame", run.frame.to_json()},
-          {"render", run.render.to_json()},
-          {"swept", run.swept},
-          {"spec", run.spec}};
+std::optional<double> RunTimings::field(const std::string& name) const {
+  if (name == "update_ms_min") return update_ms_min;
+  if (name == "update_ms_median") return update_ms_median;
+  if (name == "render_ms_min") return render_ms_min;
+  if (name == "render_ms_median") return render_ms_median;
+  if (name == "frame_ms_min") return frame_ms_min;
+  if (name == "frame_ms_median") return frame_ms_median;
+  if (name == "gpu_render_ms_min") return gpu_render_ms_min;
+  if (name == "gpu_render_ms_median") return gpu_render_ms_median;
+  return std::nullopt;
 }
 
-// Measures one run from its share of a played sequence: metrics per frame against the reference,
-// flicker over the sequence, timings per frame and over all frames and passes. `empty_reference` lists the
-// frames whose reference has no caustic in view (an experiment with empty_reference_expected): those
-// frames are not scored, and the record says so.
-RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, const CausticMethod& method,
-                       const PrepareOutcome& prepare, SequenceOutput&& output, const VariantFrames& variant_frames,
-                       const std::vector<FramePresence>& empty_reference) {
-  RunOutcome outcome;
-  nlohmann::json frames = nlohmann::json::array();
-  std::vector<double> all_update, all_render, all_frame, all_gpu;
-  RunMetrics run_metrics;
-  std::vector<std::string> per_frame_metrics;
-  for (const std::string& name : experiment.metrics) {
-    if (find_metric(name).per_frame) per_frame_metrics.push_back(name);
+int stored_record_version(const json& stored) {
+  if (!stored.is_object() || !stored.contains("record_version")) return 1;
+  const json& version = stored["record_version"];
+  if (!version.is_number_integer()) throw RecordError("field 'record_version' is not an integer");
+  return version.get<int>();
+}
+
+json upgrade_run_record(json stored) {
+  if (!stored.is_object()) throw RecordError(fmt::format("it is {}, not a JSON object", stored.type_name()));
+  const int version = stored_record_version(stored);
+  if (version > kRunRecordVersion) {
+    throw RecordError(fmt::format(
+        "it is a record of version {}, written by a newer causticbench; this one reads versions 1 to {}: report it "
+        "with the causticbench that wrote it, or run the experiment again",
+        version, kRunRecordVersion));
   }
-  const bool flicker = experiment.frames.size() > 1 && std::count(experiment.metrics.begin(), experiment.metrics.end(),
-                                                                  std::string("temporal_flicker"));
-  std::vector<Image> test_sequence, reference_sequence;
-  std::vector<std::vector<uint8_t>> masks;
-  size_t nonfinite = 0;
-  for (size_t f = 0; f < experiment.frames.size(); ++f) {
-    const int frame = experiment.frames[f];
-    const PosedFrame& posed = *variant_frames.posed.at(frame);
-    const FrameTimings& timings = output.timings[f];
-    Image& image = output.images[f];
-    for (size_t pass = 0; pass < timings.render_ms.size(); ++pass) {
-      all_update.push_back(timings.update_ms[pass]);
-      all_render.push_back(timings.render_ms[pass]);
-      all_frame.push_back(timings.update_ms[pass] + timings.render_ms[pass]);
+  if (version < 1) throw RecordError(fmt::format("its record_version is {}, expected 1 to {}", version, kRunRecordVersion));
+  if (version == 1) {
+    // Version 1 said nothing of the build that measured it or the reference's settings.
+    stored["record_version"] = 2;
+    stored["git_revision"] = "";
+    stored["reference_settings"] = nullptr;
+  }
+  return stored;
+}
+
+RunRecord RunRecord::from_json(const json& original) {
+  const json stored = upgrade_run_record(original);
+  FieldReader in(stored, "");
+  RunRecord record;
+  record.record_version = static_cast<int>(in.integer("record_version"));
+  record.key = in.string("key");
+  record.status = in.string("status");
+  record.error = in.string("error");
+  record.method = in.string("method");
+  record.label = in.string("label");
+  if (record.status != "ok" && record.status != "failed")
+    throw RecordError(fmt::format("its status is '{}', expected ok or failed", record.status));
+  record.variant = in.string_or("variant", "");
+  record.reference_key = in.string_or("reference_key", "");
+  record.git_revision = in.string_or("git_revision", "");
+  record.reference_settings = in.any_or_null("reference_settings");
+  record.build = in.object_or_empty("build");
+  record.frame = in.object_or_empty("frame");
+  record.render = in.object_or_empty("render");
+  record.swept = in.object_or_empty("swept");
+  record.spec = in.any_or_null("spec");
+  if (in.has("receiver_pixels")) record.receiver_pixels = in.integer("receiver_pixels");
+  // A failed run has only its identity and error, unless it failed after measuring (non-finite pixels).
+  if (!record.ok() && (!in.has("frames") || in.at("frames").empty())) return record;
+
+  const json& frames = in.array("frames");
+  if (frames.empty()) throw RecordError("an ok record with no frame");
+  for (size_t i = 0; i < frames.size(); ++i) record.frames.push_back(read_frame(frames[i], i));
+  FieldReader timings(in.object("timings"), "timings");
+  for (auto [name, target] : {std::pair{"update_ms_min", &record.timings.update_ms_min},
+                              {"update_ms_median", &record.timings.update_ms_median},
+                              {"render_ms_min", &record.timings.render_ms_min},
+                              {"render_ms_median", &record.timings.render_ms_median},
+                              {"frame_ms_min", &record.timings.frame_ms_min},
+                              {"frame_ms_median", &record.timings.frame_ms_median}})
+    *target = timings.number_or(name, 0.0);
+  if (timings.has("gpu_render_ms_min")) record.timings.gpu_render_ms_min = timings.number("gpu_render_ms_min");
+  if (timings.has("gpu_render_ms_median")) record.timings.gpu_render_ms_median = timings.number("gpu_render_ms_median");
+  in.object("metrics");
+  record.metrics = in.number_map("metrics");
+  record.metrics_undefined = in.text_map("metrics_undefined");
+  if (in.has("prepare")) {
+    FieldReader prepare(in.object("prepare"), "prepare");
+    record.prepare.source = prepare.string_or("source", "computed");
+    record.prepare.build_key = prepare.string_or("build_key", "");
+    record.prepare.prepare_seconds = prepare.number_or("prepare_seconds", in.number_or("prepare_seconds", 0.0));
+    record.prepare.load_seconds = prepare.number_or("load_seconds", 0.0);
+    record.prepare.save_seconds = prepare.number_or("save_seconds", 0.0);
+    record.prepare.warning = prepare.string_or("warning", "");
+  } else {
+    record.prepare.prepare_seconds = in.number_or("prepare_seconds", 0.0);
+  }
+  if (in.has("empty_reference")) {
+    FieldReader empty(in.object("empty_reference"), "empty_reference");
+    std::vector<int> frames_without;
+    for (double frame : empty.numbers_or_empty("frames")) frames_without.push_back(static_cast<int>(frame));
+    record.empty_reference_frames = frames_without;
+    record.empty_reference_reason = empty.string_or("reason", "");
+  }
+  record.memory_bytes = static_cast<int64_t>(in.number_or("memory_bytes", 0.0));
+  record.peak_rss_bytes = static_cast<int64_t>(in.number_or("peak_rss_bytes", 0.0));
+  record.counters = in.number_map("counters");
+  record.method_record = in.has("method_record") ? in.at("method_record") : json::object();
+  record.images = in.any_or_null("images");
+  record.reference_images = in.any_or_null("reference_images");
+  if (in.has("reference_converged")) {
+    const json& converged = in.at("reference_converged");
+    if (!converged.is_boolean()) throw RecordError("field 'reference_converged' is not true or false");
+    record.reference_converged = converged.get<bool>();
+  }
+  record.reference_unconverged = in.string_or("reference_unconverged", "");
+  return record;
+}
+
+json RunRecord::to_json() const {
+  json out = {{"record_version", record_version},
+              {"key", key},
+              {"status", status},
+              {"error", error},
+              {"method", method},
+              {"label", label},
+              {"variant", variant},
+              {"reference_key", reference_key},
+              {"git_revision", git_revision},
+              {"reference_settings", reference_settings},
+              {"build", build},
+              {"frame", frame},
+              {"render", render},
+              {"swept", swept},
+              {"spec", spec}};
+  if (receiver_pixels) out["receiver_pixels"] = *receiver_pixels;
+  if (!ok() && frames.empty()) return out;
+  json frames_json = json::array();
+  for (const FrameRecord& one : frames) frames_json.push_back(frame_json(one));
+  out["frames"] = frames_json;
+  out["prepare_seconds"] = prepare.prepare_seconds;
+  out["prepare"] = {{"source", prepare.source},
+                    {"build_key", prepare.build_key},
+                    {"prepare_seconds", prepare.prepare_seconds},
+                    {"load_seconds", prepare.load_seconds},
+                    {"save_seconds", prepare.save_seconds}};
+  if (!prepare.warning.empty()) out["prepare"]["warning"] = prepare.warning;
+  out["timings"] = {{"update_ms_min", timings.update_ms_min},       {"update_ms_median", timings.update_ms_median},
+                    {"render_ms_min", timings.render_ms_min},       {"render_ms_median", timings.render_ms_median},
+                    {"frame_ms_min", timings.frame_ms_min},         {"frame_ms_median", timings.frame_ms_median}};
+  if (timings.gpu_render_ms_min) out["timings"]["gpu_render_ms_min"] = *timings.gpu_render_ms_min;
+  if (timings.gpu_render_ms_median) out["timings"]["gpu_render_ms_median"] = *timings.gpu_render_ms_median;
+  out["metrics"] = metrics;
+  if (!metrics_undefined.empty()) out["metrics_undefined"] = metrics_undefined;
+  if (empty_reference_frames)
+    out["empty_reference"] = {{"frames", *empty_reference_frames}, {"reason", empty_reference_reason}};
+  out["memory_bytes"] = memory_bytes;
+  out["peak_rss_bytes"] = peak_rss_bytes;
+  out["counters"] = counters;
+  out["method_record"] = method_record;
+  if (!images.is_null()) out["images"] = images;
+  if (!reference_images.is_null()) out["reference_images"] = reference_images;
+  if (reference_converged) out["reference_converged"] = *reference_converged;
+  if (!reference_unconverged.empty()) out["reference_unconverged"] = reference_unconverged;
+  return out;
+}
+
+std::optional<double> RunRecord::metric(const std::string& name) const {
+  if (metrics_undefined.count(name)) return std::nullopt;
+  auto found = metrics.find(name);
+  if (found == metrics.end() || std::isnan(found->second)) return std::nullopt;
+  return found->second;
+}
+
+std::optional<double> RunRecord::quantity(const std::string& name) const {
+  std::optional<QuantityInfo> info = find_quantity(name);
+  if (!info || !ok()) return std::nullopt;
+  std::optional<double> value;
+  switch (info->source) {
+    case QuantitySource::metrics: value = metric(name); break;
+    case QuantitySource::timings: value = timings.field(info->field); break;
+    case QuantitySource::prepare: value = prepare.prepare_seconds; break;
+    case QuantitySource::record:
+      if (info->field == "memory_bytes") value = static_cast<double>(memory_bytes);
+      else if (info->field == "peak_rss_bytes") value = static_cast<double>(peak_rss_bytes);
+      else if (info->field == "receiver_pixels" && receiver_pixels) value = static_cast<double>(*receiver_pixels);
+      break;
+    case QuantitySource::counters: {
+      auto found = counters.find(name);
+      if (found != counters.end()) value = found->second;
+      break;
     }
-    all_gpu.insert(all_gpu.end(), timings.gpu_render_ms.begin(), timings.gpu_render_ms.end());
-    const Image& reference = variant_frames.reference.at(frame);
-    MetricValues values = compute_metrics(image, reference, posed.gbuffer.receiver, per_frame_metrics);
-    if (const FramePresence* empty = find_frame(empty_reference, frame)) mark_empty_reference(values, empty->presence);
-    nonfinite += values.nonfinite_pixels;
-    run_metrics.add(frame, experiment.frames.size() > 1, values);
-    std::string file = ResultPaths::frame_file(frame) + ".exr";
-    frames.push_back({{"frame", frame}, {"image", file}, {"update_ms", timings.update_ms}, {"render_ms", timings.render_ms},
-                      {"metrics", values.values}});
-    if (!values.undefined.empty()) frames.back()["metrics_undefined"] = values.undefined;
-    if (!values.parameters.empty()) frames.back()["metric_parameters"] = values.parameters;
-    if (!timings.gpu_render_ms.empty()) frames.back()["gpu_render_ms"] = timings.gpu_render_ms;
-    if (flicker) {
-      test_sequence.push_back(image);
-      reference_sequence.push_back(reference);
-      masks.push_back(posed.gbuffer.receiver);
-    }
-    outcome.images.push_back({frame, std::move(image)});
   }
-  if (flicker) {
-    MetricValue value = temporal_flicker(test_sequence, reference_sequence, masks);
-    if (!empty_reference.empty())
-      value = {std::nullopt, "empty reference: " + empty_reference.front().presence.describe()};
-    run_metrics.add_sequence("temporal_flicker", value);
-  }
-  nlohmann::json counters = nlohmann::json::object();
-  for (const auto& [name, value] : method.counters()) counters[name] = value;
-  outcome.record = run_identity(experiment, run);
-  outcome.record.update({{"status", nonfinite ? "failed" : "ok"},
-                         {"error", nonfinite ? fmt::format("the output has {} non-finite pixels", nonfinite) : ""},
-                         {"receiver_pixels", variant_frames.posed.at(experiment.frames.front())->gbuffer.receiver_count()},
-                         {"frames", frames},
-                         {"prepare_seconds", prepare.prepare_seconds},
-                         {"prepare", prepare_json(prepare)},
-                         {"timings", {{"update_ms_min", minimum(all_update)}, {"update_ms_median", median(all_update)},
-                                      {"render_ms_min", minimum(all_render)}, {"render_ms_median", median(all_render)},
-                                      {"frame_ms_min", minimum(all_frame)}, {"frame_ms_median", median(all_frame)}}},
-                         {"metrics", run_metrics.defined(experiment.frames.size())},
-                         {"memory_bytes", method.memory_bytes()},
-                         {"peak_rss_bytes", peak_rss_bytes()},
-                         {"counters", counters},
-                         {"method_record", method.record()}});
-  if (!run_metrics.undefined.empty()) outcome.record["metrics_undefined"] = run_metrics.undefined;
-  if (!empty_reference.empty()) {
-    nlohmann::json empty_frames_json = nlohmann::json::array();
-    for (const FramePresence& entry : empty_reference) empty_frames_json.push_back(entry.frame);
-    outcome.record["empty_reference"] = {{"frames", empty_frames_json},
-                                         {"reason", empty_reference.front().presence.describe()}};
-  }
-  if (!all_gpu.empty()) {
-    outcome.record["timings"]["gpu_render_ms_min"] = minimum(all_gpu);
-    outcome.record["timings"]["gpu_render_ms_median"] = median(all_gpu);
-  }
-  outcome.record.update(reference_fields(variant_frames, experiment.frames));
-  return outcome;
+  if (value && !std::isfinite(*value)) return std::nullopt;
+  return value;
+}
+
+json RunRecord::knobs() const {
+  json merged = json::object();
+  for (const json* phase : {&build, &frame, &render})
+    if (phase->is_object()) merged.update(*phase);
+  if (!variant.empty()) merged["variant"] = variant;
+  if (receiver_pixels) merged["receiver_pixels"] = *receiver_pixels;
+  return merged;
 }
 
 }  // namespace causticbench

@@ -1,34 +1,109 @@
-// The record of one run (docs/results-format.md, runs/<run_key>/record.json): which run it is, its
-// metrics per frame and over the sequence against the reference it was measured against (and that
-// reference's checksums and convergence), its timings and its method's counters.
+// The record of one run, runs/<run_key>/record.json (docs/results-format.md): the one definition that
+// the runner writes (run_measurement.h), the store checks (record_check.h), `report --recompute-metrics`
+// rewrites and the report, results.csv and results.json read. Versioned: a record carries
+// "record_version"; an older one is read through upgrade_run_record(), the one upgrade step, and a newer
+// one is refused with a message that says so.
 #pragma once
 
-#include <utility>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
-#include "core/image.h"
-#include "experiments/experiment.h"
-#include "experiments/reference_frames.h"
-#include "methods/lifecycle.h"
-
 namespace causticbench {
 
-struct RunOutcome {
-  nlohmann::json record;
-  std::vector<std::pair<int, Image>> images;
+// Version 1: records before "record_version" (no git revision, no reference settings).
+// Version 2: "record_version", "git_revision", "reference_settings".
+inline constexpr int kRunRecordVersion = 2;
+
+// A record that cannot be read: what is wrong, as "field 'frames' is missing".
+class RecordError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
-// The fields that say which run a record is, for finished and failed runs alike.
-nlohmann::json run_identity(const Experiment& experiment, const RunSpec& run);
+// One rendered frame of a run. A metric stored as JSON null (psnr of an exact image is +inf, which JSON
+// cannot hold) reads as NaN and is written back as null.
+struct FrameRecord {
+  int frame = 0;
+  std::string image;  // "frame_NNNN.exr" in the run's folder
+  std::vector<double> update_ms, render_ms, gpu_render_ms;  // one value per timed pass
+  std::map<std::string, double> metrics;
+  std::map<std::string, std::string> metrics_undefined;  // metric -> why it has no value
+  std::map<std::string, std::map<std::string, double>> metric_parameters;  // flip -> its exposure range, ...
+};
 
-// Measures one run from its share of a played sequence: metrics per frame against the reference,
-// flicker over the sequence, timings per frame and over all frames and passes. `empty_reference` lists
-// the frames whose reference has no caustic in view (an experiment with empty_reference_expected): those
-// frames are not scored, and the record says so.
-RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, const CausticMethod& method,
-                       const PrepareOutcome& prepare, SequenceOutput&& output, const VariantFrames& variant_frames,
-                       const std::vector<FramePresence>& empty_reference);
+// Minimum and median over every timed pass of every frame.
+struct RunTimings {
+  double update_ms_min = 0, update_ms_median = 0, render_ms_min = 0, render_ms_median = 0;
+  double frame_ms_min = 0, frame_ms_median = 0;
+  std::optional<double> gpu_render_ms_min, gpu_render_ms_median;  // Vulkan backends only
+  std::optional<double> field(const std::string& name) const;     // "frame_ms_median", ...
+};
+
+// How the method's prepare() result was obtained (methods/lifecycle.h, PrepareOutcome).
+struct PrepareRecord {
+  std::string source = "computed";  // computed, loaded, recomputed
+  std::string build_key;            // empty: not cached
+  double prepare_seconds = 0, load_seconds = 0, save_seconds = 0;
+  std::string warning;              // recomputed: why the stored build was not used
+};
+
+struct RunRecord {
+  int record_version = kRunRecordVersion;
+  std::string key, status = "ok", error, method, label;
+  std::string variant, reference_key;  // empty in a version-1 record written before scene variants
+  std::string git_revision;            // of the causticbench that measured it; empty when unknown (version 1)
+  // The resolved reference knobs the run's reference was computed with (experiment.json "reference" at
+  // the time); null when unknown (version 1).
+  nlohmann::json reference_settings;
+  // The run's resolved knobs per phase, the knobs its sweep set, and the spec its key hashes.
+  nlohmann::json build = nlohmann::json::object(), frame = nlohmann::json::object(),
+                 render = nlohmann::json::object(), swept = nlohmann::json::object(), spec;
+  std::optional<int64_t> receiver_pixels;  // of the first frame's G-buffer (ok runs)
+
+  // Ok runs only:
+  std::vector<FrameRecord> frames;
+  PrepareRecord prepare;
+  RunTimings timings;
+  std::map<std::string, double> metrics;                 // mean over frames; + temporal_flicker
+  std::map<std::string, std::string> metrics_undefined;  // metric -> why (the first undefined frame's reason)
+  std::optional<std::vector<int>> empty_reference_frames;  // empty_reference_expected: frames with no caustic
+  std::string empty_reference_reason;
+  int64_t memory_bytes = 0, peak_rss_bytes = 0;
+  std::map<std::string, double> counters;
+  nlohmann::json method_record = nlohmann::json::object();
+  nlohmann::json images;            // {"frame_0000.exr": {"bytes", "xxhash"}}: set by the store
+  nlohmann::json reference_images;  // the reference images it was measured against
+  std::optional<bool> reference_converged;  // empty: written before the flag (taken as converged)
+  std::string reference_unconverged;        // why not, when false
+
+  bool ok() const { return status == "ok"; }
+  // A metric's value: none when absent, NaN (a null in the file) or undefined.
+  std::optional<double> metric(const std::string& name) const;
+  // Any quantity of the registry (experiments/quantity_registry.h) by name: metric, timing, size or
+  // counter; none when the record has no finite value of it.
+  std::optional<double> quantity(const std::string& name) const;
+  // The resolved knobs that --filter and claims match: build, frame and render merged, with variant
+  // and receiver_pixels.
+  nlohmann::json knobs() const;
+
+  nlohmann::json to_json() const;
+  // Reads a record of any version this build knows (upgrading it first); throws RecordError naming the
+  // first field that is missing or of the wrong type, or saying the record is of a newer version.
+  static RunRecord from_json(const nlohmann::json& stored);
+};
+
+// The one upgrade step: a record of an older version as the current version would hold it (version 1
+// gets record_version 2, an empty git_revision and null reference_settings: "unknown"). The current
+// version is returned as it is; a newer one throws RecordError.
+nlohmann::json upgrade_run_record(nlohmann::json stored);
+
+// The record's version as stored (1 when it has no "record_version").
+int stored_record_version(const nlohmann::json& stored);
 
 }  // namespace causticbench

@@ -13,7 +13,7 @@
 #include "core/progress.h"
 #include "experiments/reference_frames.h"
 #include "experiments/result_store.h"
-#include "experiments/run_record.h"
+#include "experiments/run_measurement.h"
 #include "experiments/run_selection.h"
 #include "experiments/store_files.h"
 #include "experiments/store_lock.h"
@@ -50,16 +50,14 @@ constexpr size_t kRunsPerBatch = 256;
 void store_run(const ResultPaths& paths, const Experiment& experiment, const RunOutcome& outcome) {
   std::vector<std::pair<std::string, std::string>> images;
   for (const auto& [frame, image] : outcome.images) images.push_back({ResultPaths::frame_file(frame) + ".exr", encode_exr(image)});
-  store_run_folder(paths.run(experiment.name, outcome.record["key"].get<std::string>()), images, outcome.record);
+  store_run_folder(paths.run(experiment.name, outcome.record.key), images, outcome.record.to_json());
 }
 
 void store_failure(const ResultPaths& paths, const Experiment& experiment, const RunSpec& run, const std::string& error) {
   RunOutcome outcome;
   outcome.record = run_identity(experiment, run);
-  outcome.record.update({{"status", "failed"},
-                         {"error", error},
-                         {"frames", nlohmann::json::array()},
-                         {"metrics", nlohmann::json::object()}});
+  outcome.record.status = "failed";
+  outcome.record.error = error;
   store_run(paths, experiment, outcome);
 }
 
@@ -216,11 +214,11 @@ class RunExecutor {
         RunOutcome outcome =
             measure_run(experiment_, run, method, prepared, std::move(outputs[r]), frames_, empty_reference);
         store_run(paths_, experiment_, outcome);
-        if (outcome.record["status"] == "ok") {
+        if (outcome.record.ok()) {
           ++summary_.completed;
         } else {
           ++summary_.failed;
-          fmt::print(stderr, "run {} failed: {}\n", run.label, outcome.record["error"].get<std::string>());
+          fmt::print(stderr, "run {} failed: {}\n", run.label, outcome.record.error);
         }
         progress_.update(static_cast<double>(++done_), run.label);
       } catch (const WriteError&) {

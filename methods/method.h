@@ -21,6 +21,7 @@
 #include "core/scene.h"
 #include "core/tracer.h"
 #include "methods/param_dict.h"
+#include "metrics/quantities.h"
 
 namespace causticbench {
 
@@ -60,6 +61,10 @@ struct MethodInfo {
   // The method's own memory per frame pixel beyond what every frame holds, for the estimate checked
   // before any work starts (methods/memory_estimate.h): measured, not derived.
   double working_bytes_per_pixel = 0.0;
+  // Every counter counters() reports, with its unit and definition (metrics/quantities.h,
+  // counter_quantity): they join the quantity registry, so that claims, tables and plots can use them.
+  // The conformance tests check that a method reports exactly what it declares.
+  std::vector<QuantityInfo> counters;
 };
 
 using Counters = std::vector<std::pair<std::string, double>>;

@@ -249,6 +249,12 @@ const std::vector<MetricInfo>& metric_registry() {
   return registry;
 }
 
+const MetricInfo* metric_info(const std::string& name) {
+  for (const MetricInfo& metric : metric_registry())
+    if (metric.name == name) return &metric;
+  return nullptr;
+}
+
 const MetricInfo& find_metric(const std::string& name) {
   const auto& registry = metric_registry();
   for (const MetricInfo& metric : registry)

@@ -26,6 +26,8 @@ struct MetricInfo {
 
 // Every metric, in a fixed order (the order reports list them in).
 const std::vector<MetricInfo>& metric_registry();
+// The registered metric of that name, or null.
+const MetricInfo* metric_info(const std::string& name);
 // Throws InputError naming the closest known metric for unknown names.
 const MetricInfo& find_metric(const std::string& name);
 // True if value a is strictly better than b for this metric: closer to the target when the metric has

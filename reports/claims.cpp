@@ -13,18 +13,9 @@ namespace causticbench::report_detail {
 
 namespace {
 
-const char* const kClaimQuantities[] = {"render_ms", "update_ms", "frame_ms", "prepare_seconds", "memory_bytes"};
-
-// Not in the metric registry, so better() and direction_text() take them as lower-is-better, as they are.
-bool is_claim_quantity(const std::string& name) {
-  return std::any_of(std::begin(kClaimQuantities), std::end(kClaimQuantities),
-                     [&](const char* quantity) { return name == quantity; });
-}
-
-// A claim's metric or quantity of a run: metrics from "metrics"; timings (medians), prepare seconds and
-// memory through the paper block's lookup.
+// A claim's quantity of a run (experiments/quantity_registry.h): a metric, timing (median), size or counter.
 std::optional<double> claim_value(const Run& run, const std::string& name) {
-  std::optional<double> value = is_claim_quantity(name) ? ours(run, name) : run.metric(name);
+  std::optional<double> value = run.quantity(name);
   return finite(value) ? value : std::nullopt;
 }
 
@@ -69,8 +60,8 @@ std::vector<ClaimPoint> claim_points(const Report& report, const std::string& fi
 std::optional<ClaimPoint> extreme(const std::vector<ClaimPoint>& points, const std::string& quantity, bool worst) {
   std::optional<ClaimPoint> found;
   for (const ClaimPoint& point : points) {
-    if (!found || (worst ? better(quantity, found->value, point.value)
-                         : better(quantity, point.value, found->value)))
+    if (!found || (worst ? quantity_better(quantity, found->value, point.value)
+                         : quantity_better(quantity, point.value, found->value)))
       found = point;
   }
   return found;
@@ -118,7 +109,7 @@ void evaluate_best(const Report& report, ClaimResult& result) {
   result.first = extreme(expected, result.quantity, false);
   result.other = extreme(others, result.quantity, false);
   if (points.size() < 2 || !result.first || !result.other) return;
-  result.verdict = better(result.quantity, result.first->value, result.other->value) ? "confirmed"
+  result.verdict = quantity_better(result.quantity, result.first->value, result.other->value) ? "confirmed"
                                                                                             : "not confirmed";
 }
 
@@ -134,7 +125,7 @@ void evaluate_better(const Report& report, ClaimResult& result) {
   result.first = extreme(mine, result.quantity, true);
   result.other = extreme(theirs, result.quantity, false);
   if (!result.first || !result.other) return;
-  result.verdict = better(result.quantity, result.first->value, result.other->value) ? "confirmed"
+  result.verdict = quantity_better(result.quantity, result.first->value, result.other->value) ? "confirmed"
                                                                                             : "not confirmed";
 }
 
@@ -223,6 +214,8 @@ void evaluate_claims(Report& report) {
       if (!member(claim, field).is_string() && result.problem.empty())
         result.problem = "the claim has no '" + field + "'";
     result.quantity = string_member(claim, result.kind == "linear" ? "y" : "metric");
+    if (result.problem.empty() && !find_quantity(result.quantity))
+      result.problem = "'" + result.quantity + "' is not " + expected_quantity_text(result.quantity, result.kind != "linear");
     if (result.problem.empty()) {
       if (result.kind == "best")
         evaluate_best(report, result);

@@ -31,24 +31,31 @@ std::string csv_value(const json& value) {
 }  // namespace
 
 std::string results_csv(const Report& report) {
-  // Columns: identity, flattened knobs, metrics, timings, sizes, counters (unions over runs).
+  // Columns: identity, flattened knobs, metrics, timings, sizes, counters (unions over runs), then where
+  // the numbers come from.
   std::vector<std::string> build, frame, render, metrics = report.metrics, timings, counters;
+  auto add = [](std::vector<std::string>& names, const std::string& name) {
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  };
   auto collect = [&](const json& object, std::vector<std::string>& names) {
     if (!object.is_object()) return;
-    for (const auto& [name, value] : object.items())
-      if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+    for (const auto& [name, value] : object.items()) add(names, name);
   };
   for (const auto& column : kTimingColumns) timings.push_back(column[0]);
-  for (const char* name : {"frame_ms_min"}) timings.push_back(name);
+  timings.push_back("frame_ms_min");
   for (const Run& run : report.runs) {
-    collect(member(run.record, "build"), build);
-    collect(member(run.record, "frame"), frame);
-    collect(member(run.record, "render"), render);
-    collect(member(run.record, "metrics"), metrics);
-    collect(member(run.record, "metrics_undefined"), metrics);
-    collect(member(run.record, "timings"), timings);
-    collect(member(run.record, "counters"), counters);
+    collect(run.record.build, build);
+    collect(run.record.frame, frame);
+    collect(run.record.render, render);
+    for (const auto& [name, value] : run.record.metrics) add(metrics, name);
+    for (const auto& [name, why] : run.record.metrics_undefined) add(metrics, name);
+    if (run.record.timings.gpu_render_ms_median) {
+      add(timings, "gpu_render_ms_median");
+      add(timings, "gpu_render_ms_min");
+    }
+    for (const auto& [name, value] : run.record.counters) add(counters, name);
   }
+  const char* const sizes[] = {"prepare_seconds", "memory_bytes", "peak_rss_bytes"};
   std::vector<std::string> header = {"key",   "status", "method",  "label",
                                      "error", "swept",  "variant", "receiver_pixels"};
   for (const auto& name : build) header.push_back("build." + name);
@@ -57,41 +64,57 @@ std::string results_csv(const Report& report) {
   for (const auto& name : metrics) header.push_back(name);
   header.push_back("metrics_undefined");
   for (const auto& name : timings) header.push_back(name);
-  for (const char* name : {"prepare_seconds", "memory_bytes", "peak_rss_bytes"}) header.push_back(name);
+  for (const char* name : sizes) header.push_back(name);
   for (const auto& name : counters) header.push_back("counter." + name);
-  header.push_back("pareto_front");
+  for (const char* name : {"pareto_front", "reference_key", "git_revision", "record_version"}) header.push_back(name);
 
+  // Whole numbers (bytes, counts) without a fraction, the others in full precision.
+  auto number_cell = [](std::optional<double> value) {
+    if (!value) return std::string();
+    if (std::isfinite(*value) && std::floor(*value) == *value && std::abs(*value) < 9.0e15)
+      return csv_value(json(static_cast<int64_t>(*value)));
+    return csv_value(json(*value));
+  };
   std::string out;
   for (size_t c = 0; c < header.size(); ++c) out += (c ? "," : "") + csv_cell(header[c]);
   out += "\n";
   for (size_t i = 0; i < report.runs.size(); ++i) {
     const Run& run = report.runs[i];
+    const RunRecord& record = run.record;
+    const bool measured = !record.frames.empty();  // ok, stale, or failed after measuring
     std::vector<std::string> swept;
-    if (run.swept().is_object())
-      for (const auto& [name, value] : run.swept().items()) swept.push_back(name);
+    for (const auto& [name, value] : run.swept().items()) swept.push_back(name);
     std::vector<std::string> cells = {csv_cell(run.key),
                                       csv_cell(run.status),
                                       csv_cell(run.method),
                                       csv_cell(run.label),
                                       csv_cell(run.error),
                                       csv_cell(join(swept, ";")),
-                                      csv_value(member(run.record, "variant")),
-                                      csv_value(run.receiver_pixels())};
-    for (const auto& name : build) cells.push_back(csv_value(member(member(run.record, "build"), name)));
-    for (const auto& name : frame) cells.push_back(csv_value(member(member(run.record, "frame"), name)));
-    for (const auto& name : render) cells.push_back(csv_value(member(member(run.record, "render"), name)));
+                                      csv_cell(record.variant),  // empty in a record before variants
+                                      record.receiver_pixels ? std::to_string(*record.receiver_pixels) : ""};
+    for (const auto& name : build) cells.push_back(csv_value(member(record.build, name)));
+    for (const auto& name : frame) cells.push_back(csv_value(member(record.frame, name)));
+    for (const auto& name : render) cells.push_back(csv_value(member(record.render, name)));
     std::vector<std::string> undefined;  // "name: reason" of the metrics without a value, as the tables show them
     for (const auto& name : metrics) {
       std::string why = run.undefined_reason(name);
       if (!why.empty()) undefined.push_back(name + ": " + why);
-      cells.push_back(why.empty() ? csv_value(member(member(run.record, "metrics"), name)) : "");
+      auto found = record.metrics.find(name);
+      cells.push_back(why.empty() && found != record.metrics.end() ? csv_value(json(found->second)) : "");
     }
     cells.push_back(csv_cell(join(undefined, "; ")));
-    for (const auto& name : timings) cells.push_back(csv_value(member(member(run.record, "timings"), name)));
-    for (const char* name : {"prepare_seconds", "memory_bytes", "peak_rss_bytes"})
-      cells.push_back(csv_value(member(run.record, name)));
-    for (const auto& name : counters) cells.push_back(csv_value(member(member(run.record, "counters"), name)));
+    for (const auto& name : timings) cells.push_back(measured ? number_cell(record.timings.field(name)) : "");
+    cells.push_back(measured ? number_cell(record.prepare.prepare_seconds) : "");
+    cells.push_back(measured ? std::to_string(record.memory_bytes) : "");
+    cells.push_back(measured ? std::to_string(record.peak_rss_bytes) : "");
+    for (const auto& name : counters) {
+      auto found = record.counters.find(name);
+      cells.push_back(found == record.counters.end() ? "" : number_cell(found->second));
+    }
     cells.push_back(report.on_overall_front(i) ? "overall" : (report.on_front(i) ? "method" : ""));
+    cells.push_back(csv_cell(run.reference_key));
+    cells.push_back(csv_cell(record.git_revision));
+    cells.push_back(std::to_string(record.record_version));
     out += join(cells, ",") + "\n";
   }
   return out;

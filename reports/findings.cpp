@@ -71,8 +71,9 @@ std::vector<std::string> findings(const Report& report, bool html) {
     std::string label = report.display(i);
     return html ? "<b>" + html_escape(label) + "</b>" : "**" + md_escape(label) + "**";
   };
-  lines.push_back(fmt::format("{} runs: {} ok, {} failed{}.", report.runs.size() + report.missing.size(),
-                              report.runs.size() - report.failed_count(), report.failed_count(),
+  lines.push_back(fmt::format("{} runs: {} ok, {} failed{}{}.", report.runs.size() + report.missing.size(),
+                              report.runs.size() - report.failed_count() - report.stale_count(), report.failed_count(),
+                              report.stale_count() ? fmt::format(", {} stale", report.stale_count()) : "",
                               report.missing.empty() ? "" : fmt::format(", {} not run yet", report.missing.size())));
   size_t empty = 0;
   for (size_t i : report.ok_runs()) empty += report.runs[i].empty_reference ? 1 : 0;
@@ -96,7 +97,7 @@ std::vector<std::string> findings(const Report& report, bool html) {
     for (size_t i : report.ok_runs()) {
       if (report.runs[i].variant_index != v) continue;
       auto value = report.runs[i].metric(report.primary);
-      if (finite(value) && (!best || better(report.primary, *value, *report.runs[*best].metric(report.primary))))
+      if (finite(value) && (!best || quantity_better(report.primary, *value, *report.runs[*best].metric(report.primary))))
         best = i;
       auto time = report.runs[i].frame_ms();
       if (finite(time) && (!fastest || *time < *report.runs[*fastest].frame_ms())) fastest = i;
@@ -118,6 +119,8 @@ std::vector<std::string> findings(const Report& report, bool html) {
                                   fmt::format("{:.3g}", ratio)));
     }
   }
+  // What each frame budget buys (the equal-time view; its table is under "Equal time and equal error").
+  for (const std::string& line : budget_lines(report)) lines.push_back(html ? html_escape(line) : md_escape(line));
   return lines;
 }
 

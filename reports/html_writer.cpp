@@ -59,6 +59,33 @@ void html_table(std::string& out, const Table& table) {
   out += "</ol>\n";
 }
 
+// The equal-time, equal-error and break-even tables of each variant.
+void views_html(std::string& out, const Report& report) {
+  bool any = std::any_of(report.views.begin(), report.views.end(), [](const VariantViews& v) { return !v.points.empty(); });
+  if (!any) return;
+  out += "<h2 id=\"views\">Equal time and equal error</h2>\n";
+  for (size_t v = 0; v < report.views.size(); ++v) {
+    if (report.views[v].points.empty()) continue;
+    std::string in = report.multi() ? " (variant " + html_escape(report.variants[v].name) + ")" : "";
+    out += "<h3>Equal time" + in + "</h3>\n";
+    html_table(out, equal_time_table(report, v));
+    out += "<h3>Equal error" + in + "</h3>\n";
+    html_table(out, equal_error_table(report, v));
+    Table breaks = break_even_table(report, v);
+    if (!breaks.rows.empty()) {
+      out += "<h3>Break-even" + in + "</h3>\n";
+      html_table(out, breaks);
+    }
+  }
+  out += fmt::format(
+      "<p class=\"caption\">Equal time: per frame budget, the best {0} each method reaches with a median frame time "
+      "within it, and with which knobs. Equal error: per target, the least frame time at which each method reaches a "
+      "{0} at least as good{1}. Break-even: after how many frames a run that precomputes more costs no more in total "
+      "(prepare + N \u00d7 frame time) than every run of another method that is at least as accurate. Green: the "
+      "best of the row.</p>\n",
+      html_escape(report.primary), report.error_targets.empty() ? " (targets: the best error each method reaches)" : "");
+}
+
 }  // namespace
 
 std::string html_document(const Report& report) {
@@ -133,9 +160,11 @@ std::string html_document(const Report& report) {
           "only with runs of its own variant).";
     out += "</p>\n";
   }
+  views_html(out, report);
   Table failed = failed_table(report);
   if (!failed.rows.empty()) {
-    out += "<h2 id=\"failed\">Failed runs</h2>\n";
+    out += report.stale_count() ? "<h2 id=\"failed\">Failed and stale runs (not compared)</h2>\n"
+                                : "<h2 id=\"failed\">Failed runs</h2>\n";
     html_table(out, failed);
   }
   if (!report.missing.empty())

@@ -1,4 +1,4 @@
-// results.json: the stored records as they are (with the variant and reference filled in where an
+// results.json: the stored records in the current version's form (with the variant and reference filled in where an
 // older record lacks them), the variants with their references, the Pareto fronts and the checked
 // claims, for scripts (docs/reports.md, "Outputs").
 #include "reports/report_parts.h"
@@ -10,10 +10,11 @@ std::string results_json(const Report& report) {
   // record lacks them (receiver_pixels then null).
   json runs = json::array();
   for (const Run& run : report.runs) {
-    json record = run.record;
-    if (!record.contains("variant")) record["variant"] = run.variant;
-    if (!record.contains("reference_key")) record["reference_key"] = run.reference_key;
-    if (!record.contains("receiver_pixels")) record["receiver_pixels"] = nullptr;
+    json record = run.record.to_json();
+    if (run.record.variant.empty()) record["variant"] = run.variant;
+    if (run.record.reference_key.empty()) record["reference_key"] = run.reference_key;
+    if (!run.record.receiver_pixels) record["receiver_pixels"] = nullptr;
+    if (run.stale) record["stale"] = run.error;
     runs.push_back(record);
   }
   auto keys = [&](const std::vector<size_t>& indices) {

@@ -1,6 +1,6 @@
 // The plots of report.html as Vega-Lite v5 specifications (rendered offline by vega-embed): the
-// trade-off of the primary metric against frame time with the Pareto fronts, the reference's
-// convergence, and the primary metric against each knob a method sweeps (docs/reports.md, "Plots").
+// trade-offs (tradeoff_plots.cpp), the reference's convergence, and the primary metric against each
+// knob a method sweeps (docs/reports.md, "Plots"); the pieces they share: plot_specs.h.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -8,216 +8,12 @@
 #include <set>
 
 #include "core/errors.h"
+#include "reports/plot_specs.h"
 #include "reports/report_parts.h"
 
 namespace causticbench::report_detail {
 
 namespace {
-
-bool all_positive(const std::vector<double>& values) {
-  return !values.empty() && std::all_of(values.begin(), values.end(), [](double v) { return v > 0.0; });
-}
-
-json base_spec(const std::string& title, const std::string& subtitle) {
-  json title_block = {{"text", title}, {"anchor", "start"}, {"fontSize", 15}};
-  if (!subtitle.empty()) title_block["subtitle"] = subtitle;
-  return {{"$schema", "https://vega.github.io/schema/vega-lite/v5.json"},
-          {"title", title_block},
-          {"width", 430},
-          {"height", 300},
-          {"config",
-           {{"font", "system-ui, -apple-system, Segoe UI, Helvetica, Arial, sans-serif"},
-            {"axis", {{"labelFontSize", 11}, {"titleFontSize", 12}, {"gridOpacity", 0.6}}},
-            {"legend", {{"labelLimit", 360}, {"labelFontSize", 11}, {"titleFontSize", 12}}},
-            {"title", {{"subtitleColor", "#555"}, {"subtitleFontSize", 11}}}}}};
-}
-
-json axis(const std::string& field, const std::string& title, bool log) {
-  json encoding = {{"field", field}, {"type", "quantitative"}, {"title", title}};
-  if (log) {
-    encoding["scale"] = {{"type", "log"}};
-    encoding["axis"] = {{"format", "~g"}};
-  } else {
-    encoding["scale"] = {{"zero", false}};
-  }
-  return encoding;
-}
-
-// Vega's tableau10 colours, given to the methods in their order, so that a method keeps its colour in
-// every plot even when a plot shows only some of the methods.
-json method_colour(const Report& report, const std::set<std::string>& shown = {}) {
-  static const char* const palette[] = {"#4c78a8", "#f58518", "#e45756", "#72b7b2", "#54a24b",
-                                        "#eeca3b", "#b279a2", "#ff9da6", "#9d755d", "#bab0ac"};
-  json domain = json::array(), range = json::array();
-  for (size_t m = 0; m < report.methods.size(); ++m) {
-    if (!shown.empty() && !shown.count(report.methods[m])) continue;
-    domain.push_back(report.methods[m]);
-    range.push_back(palette[m % 10]);
-  }
-  return {
-      {"field", "method"}, {"type", "nominal"}, {"title", "method"}, {"scale", {{"domain", domain}, {"range", range}}}};
-}
-
-// A dashed horizontal rule at `value` with a label, as two layers.
-std::vector<json> rule_layers(const std::string& field, double value, const std::string& text,
-                              const std::string& colour) {
-  json data = {{"values", json::array({{{field, value}, {"text", text}}})}};
-  json y = {{"field", field}, {"type", "quantitative"}};
-  return {{{"data", data},
-           {"mark", {{"type", "rule"}, {"strokeDash", {6, 4}}, {"color", colour}, {"strokeWidth", 1.5}}},
-           {"encoding", {{"y", y}}}},
-          {{"data", data},
-           {"mark",
-            {{"type", "text"},
-             {"align", "left"},
-             {"baseline", "bottom"},
-             {"dx", 4},
-             {"dy", -3},
-             {"color", colour},
-             {"fontSize", 11}}},
-           {"encoding", {{"y", y}, {"x", {{"value", 0}}}, {"text", {{"field", "text"}}}}}}};
-}
-
-json run_row(const Report& report, size_t i) {
-  const Run& run = report.runs[i];
-  json row = {{"key", run.key},
-              {"method", run.method},
-              {"label", report.display(i)},
-              {"knobs", run.swept_text()},
-              {"frame_ms", run.frame_ms().value_or(NAN)},
-              {"value", run.metric(report.primary).value_or(NAN)},
-              {"front", report.on_front(i)}};
-  if (report.multi()) {
-    row["variant"] = run.variant;
-    row["series"] = run.variant + " " + run.method;
-  }
-  return row;
-}
-
-json tooltip(const Report& report) {
-  json fields = json::array({{{"field", "label"}, {"title", "run"}},
-                             {{"field", "method"}},
-                             {{"field", "knobs"}, {"title", "swept"}},
-                             {{"field", "frame_ms"}, {"title", "frame ms (median)"}, {"format", ".4g"}},
-                             {{"field", "value"}, {"title", report.primary}, {"format", ".4g"}}});
-  if (report.multi()) fields.insert(fields.begin() + 2, json{{"field", "variant"}});
-  return fields;
-}
-
-// The reference noise floor rules of the error plots (primary metric relMSE only): one per variant whose
-// reference has a positive floor, labelled with the variant's name when there are several. The floors
-// are appended to `values` (for the choice of a log axis).
-std::vector<json> floor_layers(const Report& report, const std::string& field, std::vector<double>& values) {
-  std::vector<json> layers;
-  if (report.primary != "relmse") return layers;
-  for (const Variant& variant : report.variants) {
-    if (!finite(variant.noise_floor) || !(*variant.noise_floor > 0.0)) continue;
-    double floor = *variant.noise_floor;
-    values.push_back(floor);
-    std::string text = report.multi() ? fmt::format("reference noise floor {} {}", variant.name, num(floor))
-                                      : "reference noise floor " + num(floor);
-    for (json& layer : rule_layers(field, floor, text, "#666")) layers.push_back(layer);
-  }
-  return layers;
-}
-
-// Points of several variants are told apart by their shape.
-void add_variant_shape(const Report& report, json& encoding) {
-  if (!report.multi()) return;
-  json names = json::array();
-  for (const Variant& variant : report.variants) names.push_back(variant.name);
-  encoding["shape"] = {{"field", "variant"}, {"type", "nominal"}, {"title", "variant"}, {"scale", {{"domain", names}}}};
-}
-
-void make_tradeoff_plot(Report& report) {
-  std::vector<size_t> plotted;
-  std::vector<double> times, values;
-  for (size_t i : report.ok_runs()) {
-    auto time = report.runs[i].frame_ms();
-    auto value = report.runs[i].metric(report.primary);
-    if (!finite(time) || !finite(value)) continue;
-    plotted.push_back(i);
-    times.push_back(*time);
-    values.push_back(*value);
-  }
-  if (plotted.empty()) return;
-  std::vector<json> floors = floor_layers(report, "value", values);
-  bool log_x = all_positive(times), log_y = all_positive(values);
-
-  // Fronts are computed within each variant: one line per (variant, method), one band per variant.
-  json front_points = json::array(), dominated = json::array(), front_lines = json::array(), overall = json::array();
-  for (size_t i : plotted) (report.on_front(i) ? front_points : dominated).push_back(run_row(report, i));
-  for (const Fronts& fronts : report.fronts) {
-    for (const auto& [method, front] : fronts.per_method) {
-      int order = 0;
-      for (size_t i : front) {
-        json row = run_row(report, i);
-        row["order"] = order++;
-        front_lines.push_back(row);
-      }
-    }
-    if (fronts.overall.size() < 2) continue;
-    int order = 0;
-    for (size_t i : fronts.overall) {
-      json row = run_row(report, i);
-      row["order"] = order++;
-      overall.push_back(row);
-    }
-  }
-
-  std::string y_title = fmt::format("{} ({}{})", report.primary, direction_text(report.primary), log_y ? ", log" : "");
-  json x = axis("frame_ms", std::string("frame time, median ms") + (log_x ? " (log)" : ""), log_x);
-  json y = axis("value", y_title, log_y);
-  json layers = json::array();
-  if (!overall.empty()) {
-    json band = {{"x", x}, {"y", y}, {"order", {{"field", "order"}}}};
-    if (report.multi()) band["detail"] = {{"field", "variant"}};
-    layers.push_back({{"data", {{"values", overall}}},
-                      {"mark",
-                       {{"type", "line"},
-                        {"color", "#999"},
-                        {"opacity", 0.3},
-                        {"strokeWidth", 9},
-                        {"strokeCap", "round"},
-                        {"strokeJoin", "round"}}},
-                      {"encoding", band}});
-  }
-  json lines = {{"x", x}, {"y", y}, {"color", method_colour(report)}, {"order", {{"field", "order"}}}};
-  if (report.multi()) lines["detail"] = {{"field", "series"}};
-  layers.push_back(
-      {{"data", {{"values", front_lines}}}, {"mark", {{"type", "line"}, {"strokeWidth", 2}}}, {"encoding", lines}});
-  json points = {{"x", x}, {"y", y}, {"color", method_colour(report)}, {"tooltip", tooltip(report)}};
-  add_variant_shape(report, points);
-  if (!dominated.empty()) {
-    layers.push_back({{"data", {{"values", dominated}}},
-                      {"mark", {{"type", "point"}, {"filled", false}, {"size", 60}, {"strokeWidth", 1.5}}},
-                      {"encoding", points}});
-  }
-  layers.push_back({{"data", {{"values", front_points}}},
-                    {"mark", {{"type", "point"}, {"filled", true}, {"size", 80}, {"opacity", 1}}},
-                    {"encoding", points}});
-  for (json& layer : floors) layers.push_back(layer);
-  json spec = base_spec(fmt::format("Trade-off: {} versus frame time", report.primary),
-                        report.multi() ? "each point one run, shape = scene variant; filled = on its method's Pareto "
-                                         "front within its variant, hollow = dominated; grey bands = fronts over all "
-                                         "methods"
-                                       : "each point one run; filled = on its method's Pareto front, hollow = "
-                                         "dominated; grey band = front over all methods");
-  spec["layer"] = layers;
-  std::string caption = fmt::format(
-      "x: median frame time (update + render) over the repetitions; y: {} against the reference (mean over the "
-      "frames). A run is on its method's front when no run of that method is at least as fast and at least as "
-      "good ({}) and strictly better in one of the two.",
-      report.primary, direction_text(report.primary));
-  if (report.multi())
-    caption +=
-        " Fronts are computed within each scene variant: a run competes only with runs of its own variant, each "
-        "measured against its own reference.";
-  if (!floors.empty())
-    caption += report.multi() ? " Below a variant's dashed noise floor its reference cannot tell errors apart."
-                              : " Below the dashed noise floor the reference cannot tell errors apart.";
-  report.plots.push_back({"plot-tradeoff", caption, spec});
-}
 
 void make_convergence_plot(Report& report) {
   // One line per variant's reference (a plain experiment has one).
@@ -243,7 +39,7 @@ void make_convergence_plot(Report& report) {
   for (size_t i : report.ok_runs()) {
     auto value = report.runs[i].metric("relmse");
     if (!finite(value)) continue;
-    if (!best || better("relmse", *value, *best)) {
+    if (!best || quantity_better("relmse", *value, *best)) {
       best = *value;
       best_label = report.display(i);
     }
@@ -400,7 +196,7 @@ void make_sweep_plots(Report& report) {
 }  // namespace
 
 void make_plots(Report& report) {
-  make_tradeoff_plot(report);
+  make_tradeoff_plots(report);
   make_convergence_plot(report);
   make_sweep_plots(report);
 }

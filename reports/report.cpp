@@ -44,6 +44,7 @@ ReportSummary write_report(const std::string& experiment_folder) {
   Report report;
   load_report(report, experiment_folder);
   compute_fronts(report);
+  compute_views(report);
   evaluate_claims(report);
 
   fs::path images = report.folder / "report";

@@ -37,9 +37,13 @@ struct TradeoffPoint {
 // The Pareto front: indices of the points that no other point dominates, sorted by time (then by
 // value, best first). Point j dominates point i when j is at least as fast and at least as good
 // (!better(i.value, j.value)), and strictly faster or strictly better. `better(a, b)` says whether
-// metric value a is strictly better than b (metric_better for a registered metric). Points with a
+// value a is strictly better than b (quantity_better for a registered quantity). Points with a
 // non-finite time or value are never on the front.
 std::vector<size_t> pareto_front(const std::vector<TradeoffPoint>& points,
+                                 const std::function<bool(double, double)>& better);
+// The same on any two axes: `better_time` says which x is better (a cost: smaller; psnr: larger).
+std::vector<size_t> pareto_front(const std::vector<TradeoffPoint>& points,
+                                 const std::function<bool(double, double)>& better_time,
                                  const std::function<bool(double, double)>& better);
 
 }  // namespace causticbench

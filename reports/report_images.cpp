@@ -191,9 +191,8 @@ void make_images(Report& report, std::set<std::string>& written) {
   const json& frames = member(report.experiment, "frames");
   if (frames.is_array() && !frames.empty() && frames[0].is_number_integer()) first_frame = frames[0].get<int64_t>();
   for (size_t i : report.ok_runs()) {
-    const json& run_frames = member(report.runs[i].record, "frames");
-    if (run_frames.is_array() && !run_frames.empty() && member(run_frames[0], "frame").is_number_integer()) {
-      first_frame = member(run_frames[0], "frame").get<int64_t>();
+    if (!report.runs[i].record.frames.empty()) {
+      first_frame = report.runs[i].record.frames.front().frame;
       break;
     }
   }
@@ -244,15 +243,14 @@ void make_images(Report& report, std::set<std::string>& written) {
       thumb.title = report.display(i);
       auto time = run.frame_ms();
       thumb.caption = primary_caption(report, run) + (time ? " \u00b7 " + num(*time) + " ms" : "");
-      const json& run_frames = member(run.record, "frames");
-      if (!run_frames.is_array() || run_frames.empty()) {
+      if (run.record.frames.empty()) {
         thumb.note = "no frames recorded";
         report.thumbnails.push_back(thumb);
         continue;
       }
-      int64_t frame = member(run_frames[0], "frame").is_number_integer() ? member(run_frames[0], "frame").get<int64_t>()
-                                                                         : first_frame;
-      std::string image_name = string_member(run_frames[0], "image", frame_file(frame));
+      const FrameRecord& recorded = run.record.frames.front();
+      int64_t frame = recorded.frame;
+      std::string image_name = recorded.image.empty() ? frame_file(frame) : recorded.image;
       fs::path path = report.folder / "runs" / run.key / image_name;
       try {
         Image image = read_exr(path.string());

@@ -10,9 +10,77 @@
 
 #include "core/errors.h"
 #include "experiments/record_check.h"
+#include "experiments/report_settings.h"
 #include "reports/report_parts.h"
 
 namespace causticbench::report_detail {
+
+namespace {
+
+// Why a run is stale: the reference it was measured against and the experiment's current one, with the
+// settings that differ when the record names its reference's (version 2 records do).
+std::string stale_reason(const Run& run, const Variant& variant, const json& current_settings) {
+  std::string differences;
+  const json& then = run.record.reference_settings;
+  if (then.is_object() && current_settings.is_object()) {
+    std::vector<std::string> changed;
+    std::set<std::string> names;
+    for (const auto& [name, value] : then.items()) names.insert(name);
+    for (const auto& [name, value] : current_settings.items()) names.insert(name);
+    for (const std::string& name : names) {
+      const json& before = member(then, name);
+      const json& now = member(current_settings, name);
+      if (before != now)
+        changed.push_back(fmt::format("{} {} → {}", name, before.is_null() ? "unset" : before.dump(),
+                                      now.is_null() ? "unset" : now.dump()));
+    }
+    differences = changed.empty() ? "; the reference settings are the same, so the scene or its variant changed"
+                                  : "; reference settings changed: " + join(changed, ", ");
+  }
+  return fmt::format("stale: measured against reference {}, but the experiment's reference is now {}{}",
+                     run.reference_key.substr(0, 12), variant.reference_key.substr(0, 12), differences);
+}
+
+// A list of numbers of experiment.json, or `fallback` when it has none (written before the key).
+std::vector<double> numbers_or(const json& experiment, const char* key, const std::vector<double>& fallback) {
+  const json& list = member(experiment, key);
+  if (!list.is_array()) return fallback;
+  std::vector<double> values;
+  for (const json& value : list)
+    if (value.is_number()) values.push_back(value.get<double>());
+  return values;
+}
+
+// The trade-offs, budgets, error targets and frame counts the experiment compares (experiments/
+// report_settings.h). A trade-off naming a quantity the registry does not know (a hand-edited or newer
+// experiment.json) is left out with a note that names the closest known one.
+void read_comparisons(Report& report) {
+  const json& listed = member(report.experiment, "tradeoffs");
+  if (listed.is_array()) {
+    for (const json& pair : listed) {
+      if (!pair.is_array() || pair.size() != 2 || !pair[0].is_string() || !pair[1].is_string()) {
+        report.notes.push_back("experiment.json has a trade-off that is not an [x, y] pair of names: " + pair.dump());
+        continue;
+      }
+      Tradeoff tradeoff{pair[0].get<std::string>(), pair[1].get<std::string>(), {}};
+      bool known = true;
+      for (const std::string& name : {tradeoff.x, tradeoff.y}) {
+        if (find_quantity(name)) continue;
+        report.notes.push_back(fmt::format("The trade-off [{}, {}] is not drawn: '{}' is not {}.", tradeoff.x,
+                                           tradeoff.y, name, expected_quantity_text(name, true)));
+        known = false;
+      }
+      if (known) report.tradeoffs.push_back(tradeoff);
+    }
+  } else {
+    report.tradeoffs.push_back({"frame_ms", report.primary, {}});
+  }
+  report.budgets_ms = numbers_or(report.experiment, "budgets_ms", kDefaultBudgetsMs);
+  report.error_targets = numbers_or(report.experiment, "error_targets", {});
+  report.total_cost_frames = numbers_or(report.experiment, "total_cost_frames", kDefaultTotalCostFrames);
+}
+
+}  // namespace
 
 void load_report(Report& report, const std::string& folder_text) {
   if (folder_text.empty()) throw InputError("report: no experiment folder given (expected results/<experiment>/)");
@@ -75,21 +143,25 @@ void load_report(Report& report, const std::string& folder_text) {
     Run run;
     run.key = key;
     try {
-      run.record = read_json(path);
+      json stored = read_json(path);
       // The store's own check (experiments/record_check.h): a damaged record is never shown as ok.
-      std::string problem = run_record_problem(run.record, (folder / "runs" / key).string());
+      std::string problem = run_record_problem(stored, (folder / "runs" / key).string());
       if (!problem.empty()) throw InputError(fmt::format("damaged record {}: {}", path.string(), problem));
-    } catch (const InputError& failure) {
-      run.record = json{{"key", key}, {"status", "failed"}, {"error", failure.what()}};
+      run.record = RunRecord::from_json(stored);
+    } catch (const std::exception& failure) {
+      run.record = RunRecord{};
+      run.record.key = key;
+      run.record.status = "failed";
+      run.record.error = failure.what();
     }
-    run.status = string_member(run.record, "status", "ok");
-    run.ok = run.status == "ok";
-    run.method = string_member(run.record, "method", "?");
-    run.label = string_member(run.record, "label", run.method + " " + key.substr(0, 8));
-    run.error = string_member(run.record, "error");
+    run.status = run.record.status;
+    run.ok = run.record.ok();
+    run.method = run.record.method.empty() ? "?" : run.record.method;
+    run.label = run.record.label.empty() ? run.method + " " + key.substr(0, 8) : run.record.label;
+    run.error = run.record.error;
     if (!run.ok && run.error.empty()) run.error = "(no error message recorded)";
-    run.empty_reference = member(run.record, "empty_reference").is_object();
-    if (member(run.record, "reference_converged") == false) ++unconverged;
+    run.empty_reference = run.record.empty_reference_frames.has_value();
+    if (run.record.reference_converged == false) ++unconverged;
     report.runs.push_back(std::move(run));
   }
   if (unconverged)
@@ -124,14 +196,10 @@ void load_report(Report& report, const std::string& folder_text) {
   std::set<std::string> stored;
   bool nonfinite = false;
   for (const Run& run : report.runs) {
-    const json& undefined = member(run.record, "metrics_undefined");
-    if (undefined.is_object())
-      for (const auto& [name, why] : undefined.items()) stored.insert(name);
-    const json& metrics = member(run.record, "metrics");
-    if (!metrics.is_object()) continue;
-    for (const auto& [name, value] : metrics.items()) {
+    for (const auto& [name, why] : run.record.metrics_undefined) stored.insert(name);
+    for (const auto& [name, value] : run.record.metrics) {
       stored.insert(name);
-      if (name == "nonfinite_pixels" && value.is_number() && value.get<double>() > 0) nonfinite = true;
+      if (name == "nonfinite_pixels" && value > 0) nonfinite = true;
     }
   }
   std::vector<std::string> extra;
@@ -150,6 +218,8 @@ void load_report(Report& report, const std::string& folder_text) {
                          ? "relmse"
                          : (report.metrics.empty() ? "relmse" : report.metrics.front());
   }
+
+  read_comparisons(report);
 
   // The scene variants: experiment.json's list; without one, a single "default" variant with the
   // top-level reference_key.
@@ -179,8 +249,8 @@ void load_report(Report& report, const std::string& folder_text) {
   }
   std::vector<std::string> unlisted;
   for (Run& run : report.runs) {
-    run.variant = string_member(run.record, "variant");
-    run.reference_key = string_member(run.record, "reference_key");
+    run.variant = run.record.variant;
+    run.reference_key = run.record.reference_key;
     if (run.variant.empty()) {
       auto named = std::find_if(report.variants.begin(), report.variants.end(), [&](const Variant& v) {
         return !run.reference_key.empty() && v.reference_key == run.reference_key;
@@ -200,7 +270,19 @@ void load_report(Report& report, const std::string& folder_text) {
     }
     run.variant_index = static_cast<size_t>(found - report.variants.begin());
     if (run.reference_key.empty()) run.reference_key = found->reference_key;
+    if (run.ok && found->listed && !found->reference_key.empty() && run.reference_key != found->reference_key) {
+      run.stale = true;
+      run.ok = false;
+      run.status = "stale";
+      run.error = stale_reason(run, *found, member(report.experiment, "reference"));
+    }
   }
+  if (size_t stale = report.stale_count())
+    report.notes.push_back(fmt::format(
+        "{} run(s) were measured against another reference than the experiment's current one (its settings or "
+        "scene changed since): they are stale, listed with the runs not compared, and left out of every front, "
+        "claim and view. `causticbench run` measures them again.",
+        stale));
   if (!unlisted.empty())
     report.notes.push_back(
         fmt::format("Run records name variant(s) that experiment.json does not list: {}.", join(unlisted, ", ")));

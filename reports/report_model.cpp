@@ -6,16 +6,10 @@
 
 namespace causticbench::report_detail {
 
-std::optional<double> ours(const Run& run, const std::string& column) {
-  if (auto value = run.timing(column + "_median")) return value;
-  if (auto value = run.timing(column)) return value;
-  if (auto value = run.metric(column)) return value;
-  if (auto value = run.top(column)) return value;
-  return number(member(run.record, "counters"), column);
-}
+std::optional<double> ours(const Run& run, const std::string& column) { return run.quantity(column); }
 
 json run_knobs(const Run& run) {
-  json knobs = record_knobs(run.record);
+  json knobs = run.record.knobs();
   knobs["variant"] = run.variant;
   return knobs;
 }

@@ -9,7 +9,7 @@
 // and then the writers (markdown_writer.cpp, html_writer.cpp, csv_writer.cpp, json_writer.cpp) turn it
 // into files, with the tables (tables.cpp), the summary (findings.cpp) and the claims' evidence
 // (claim_evidence.cpp) they share. The functions between these parts: report_parts.h; the helpers
-// all of them use: report_text.h (JSON members, numbers as text, escaping) and metric_directions.h.
+// all of them use: report_text.h (JSON members, numbers as text, escaping) and experiments/quantity_registry.h (directions).
 // Internal to reports/; the public interface is reports/report.h.
 #pragma once
 
@@ -23,7 +23,10 @@
 #include <vector>
 
 #include "experiments/result_store.h"
-#include "reports/metric_directions.h"
+#include "experiments/run_record.h"
+#include "metrics/metrics.h"
+#include "reports/cost_views.h"
+#include "experiments/quantity_registry.h"
 #include "reports/report_text.h"
 
 namespace causticbench::report_detail {
@@ -41,9 +44,12 @@ constexpr size_t kLinearMinPoints = 3;
 
 struct Run {
   std::string key;
-  json record;
-  bool ok = false;
-  std::string status, method, label, error;
+  RunRecord record;  // as read (upgraded to the current version); a damaged one: failed, with why
+  bool ok = false;   // an ok record of the experiment's current reference: compared with the others
+  std::string status, method, label, error;  // status: ok, failed, or stale (ok, but see `stale`)
+  // Measured against another reference than the experiment's current one (its settings changed since):
+  // listed with the runs that are not compared, never mixed into fronts, claims or views.
+  bool stale = false;
   // The scene variant the run belongs to and the reference it is compared with: the record's "variant"
   // and "reference_key"; an older record without them gets the variant whose reference_key it names,
   // else the first variant ("default" in a plain experiment), and that variant's reference.
@@ -57,24 +63,27 @@ struct Run {
   // A metric's value; none when the record has none or says it is undefined.
   std::optional<double> metric(const std::string& name) const {
     if (!undefined_reason(name).empty()) return std::nullopt;
-    return number(member(record, "metrics"), name);
+    return record.metric(name);
   }
   // Why the run has no value of the metric (docs/metrics.md, "Undefined values"); empty when it has one or
   // the record gives no reason.
   std::string undefined_reason(const std::string& name) const {
     if (empty_reference && metric_info(name) && name != "nonfinite_pixels") {
-      std::string why = string_member(member(record, "empty_reference"), "reason");
+      const std::string& why = record.empty_reference_reason;
       return why.empty() ? "empty reference" : "empty reference: " + why;
     }
-    return string_member(member(record, "metrics_undefined"), name);
+    auto found = record.metrics_undefined.find(name);
+    return found == record.metrics_undefined.end() ? "" : found->second;
   }
-  std::optional<double> timing(const std::string& name) const { return number(member(record, "timings"), name); }
-  std::optional<double> top(const std::string& name) const { return number(record, name); }
-  const json& swept() const { return member(record, "swept"); }
+  // Any registered quantity (experiments/quantity_registry.h); a metric through metric() above.
+  std::optional<double> quantity(const std::string& name) const {
+    if (metric_info(name)) return metric(name);
+    return record.quantity(name);
+  }
+  std::optional<double> timing(const std::string& name) const { return record.timings.field(name); }
+  const json& swept() const { return record.swept; }
   std::string swept_text() const { return knobs_text(swept()); }
-  std::optional<double> frame_ms() const { return timing("frame_ms_median"); }
-  // Receiver pixels of the run's first frame (G-buffer), when the record has them.
-  const json& receiver_pixels() const { return member(record, "receiver_pixels"); }
+  std::optional<double> frame_ms() const { return record.quantity("frame_ms"); }
 };
 
 // One scene variant of the experiment (experiment.json "variants"; a plain experiment has one,
@@ -92,6 +101,24 @@ struct Variant {
 struct Fronts {
   std::vector<size_t> overall;
   std::map<std::string, std::vector<size_t>> per_method;
+};
+
+// A trade-off the experiment names (experiment.json "tradeoffs": [x, y]), with its Pareto fronts per
+// variant (index as in Report::variants).
+struct Tradeoff {
+  std::string x, y;
+  std::vector<Fronts> fronts;
+};
+
+// The equal-time, equal-error and break-even views of one variant (reports/cost_views.h) on the
+// primary metric: `runs[p]` is the run of `points[p]`.
+struct VariantViews {
+  std::vector<size_t> runs;
+  std::vector<CostPoint> points;
+  std::vector<double> targets;  // the experiment's error_targets, or default_error_targets()
+  std::vector<EqualTimeRow> equal_time;
+  std::vector<EqualErrorRow> equal_error;
+  std::vector<BreakEven> break_even;
 };
 
 struct Thumbnail {
@@ -149,8 +176,15 @@ struct Report {
   std::vector<Variant> variants;     // never empty; experiment.json's order, then any only runs name
   std::vector<std::string> notes;    // warnings shown at the top of the report
 
-  // Pareto fronts, one set per variant (index as in variants): a run competes only within its variant.
+  // Pareto fronts of the primary metric against frame time, one set per variant (index as in variants):
+  // a run competes only within its variant. The table's diamond and the summary's front are these.
   std::vector<Fronts> fronts;
+  // The experiment's trade-offs (default: frame_ms against the primary metric), each with its fronts.
+  std::vector<Tradeoff> tradeoffs;
+  // What the views compare (experiment.json; the defaults of experiments/report_settings.h when an older
+  // experiment.json has none) and the views, one per variant.
+  std::vector<double> budgets_ms, error_targets, total_cost_frames;
+  std::vector<VariantViews> views;
 
   std::vector<Thumbnail> thumbnails;
   std::string error_scale_text;  // what the brightest colour of the error maps means
@@ -165,7 +199,11 @@ struct Report {
     return indices;
   }
   size_t failed_count() const {
-    return static_cast<size_t>(std::count_if(runs.begin(), runs.end(), [](const Run& run) { return !run.ok; }));
+    return static_cast<size_t>(
+        std::count_if(runs.begin(), runs.end(), [](const Run& run) { return !run.ok && !run.stale; }));
+  }
+  size_t stale_count() const {
+    return static_cast<size_t>(std::count_if(runs.begin(), runs.end(), [](const Run& run) { return run.stale; }));
   }
   bool multi() const { return variants.size() > 1; }
   fs::path reference_folder(const std::string& key) const {

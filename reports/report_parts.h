@@ -31,8 +31,10 @@ void evaluate_claims(Report& report);
 // report.thumbnails; the names of the files written are added to `written`.
 void make_images(Report& report, std::set<std::string>& written);
 
-// plots.cpp: report.plots (trade-off, reference convergence, one per swept knob).
+// plots.cpp: report.plots (the trade-offs, reference convergence, one per swept knob).
 void make_plots(Report& report);
+// tradeoff_plots.cpp: one plot per trade-off with its fronts, and the total cost over N frames.
+void make_tradeoff_plots(Report& report);
 
 // ---------------------------------------------------------------------------------------------------
 // tables.cpp: the tables that HTML and Markdown both show, as cells.
@@ -62,6 +64,14 @@ inline constexpr const char* kTimingColumns[][2] = {{"frame_ms_median", "frame m
 Table results_table(const Report& report);  // the ok runs, grouped by method
 Table failed_table(const Report& report);   // the runs whose status is not ok
 Table paper_table(const Report& report);    // experiment.json "paper": its values beside ours
+
+// cost_tables.cpp: report.views (equal time, equal error, break-even per variant) and their tables.
+void compute_views(Report& report);
+Table equal_time_table(const Report& report, size_t variant);
+Table equal_error_table(const Report& report, size_t variant);
+Table break_even_table(const Report& report, size_t variant);
+// "Within 16.7 ms: ..." per budget (and variant): the summary's lines.
+std::vector<std::string> budget_lines(const Report& report);
 
 // The distinct reasons of a table's undefined cells, in the order they first appear: its footnotes.
 std::vector<std::string> undefined_notes(const Table& table);

@@ -91,7 +91,7 @@ Table results_table(const Report& report) {
       auto value = report.runs[i].metric(metric);
       if (!finite(value)) continue;
       std::map<std::string, double>& best = bests[report.runs[i].variant_index];
-      if (!best.count(metric) || better(metric, *value, best[metric])) best[metric] = *value;
+      if (!best.count(metric) || quantity_better(metric, *value, best[metric])) best[metric] = *value;
     }
   }
   std::vector<std::optional<double>> fastests(report.variants.size());
@@ -114,13 +114,13 @@ Table results_table(const Report& report) {
     row.push_back({run.swept_text()});
     if (report.multi()) {
       row.push_back({run.variant});
-      const json& pixels = run.receiver_pixels();
-      row.push_back({pixels.is_number() ? value_text(pixels) : "\u2014", false, true});
+      const std::optional<int64_t>& pixels = run.record.receiver_pixels;
+      row.push_back({pixels ? std::to_string(*pixels) : "\u2014", false, true});
     }
     for (const std::string& metric : report.metrics) {
       auto value = run.metric(metric);
       Cell cell = metric_cell(run, metric);
-      if (finite(value) && best.count(metric) && !better(metric, best[metric], *value)) cell.best = true;
+      if (finite(value) && best.count(metric) && !quantity_better(metric, best[metric], *value)) cell.best = true;
       if (metric == "nonfinite_pixels" && value && *value > 0) cell.warn = true;
       row.push_back(cell);
     }
@@ -131,11 +131,11 @@ Table results_table(const Report& report) {
         cell.best = true;
       row.push_back(cell);
     }
-    auto prepare = run.top("prepare_seconds");
+    auto prepare = run.quantity("prepare_seconds");
     row.push_back({prepare ? num(*prepare) : "\u2014", false, true});
-    auto memory = run.top("memory_bytes");
+    auto memory = run.quantity("memory_bytes");
     row.push_back({memory ? bytes_text(*memory) : "\u2014", false, true});
-    auto rss = run.top("peak_rss_bytes");
+    auto rss = run.quantity("peak_rss_bytes");
     row.push_back({rss ? bytes_text(*rss) : "\u2014", false, true});
     table.rows.push_back(row);
   }

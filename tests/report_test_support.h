@@ -19,6 +19,7 @@
 
 #include "core/errors.h"
 #include "core/image.h"
+#include "experiments/run_record.h"
 #include "metrics/metrics.h"
 #include "reports/report.h"
 #include "tests/test_support.h"
@@ -270,46 +271,50 @@ class ReportTest : public ::testing::Test {
           {"min_r2", 0.99}}});
   }
 
-  // runs/<key>/record.json (and the frame of an ok run), as the experiment runner stores them.
+  // runs/<key>/record.json (and the frame of an ok run), built as the experiment runner builds it
+  // (experiments/run_record.h). Like a record from before scene variants, it names no variant or
+  // reference: the report assigns the experiment's.
+  RunRecord fake_record(const FakeRun& run) const {
+    RunRecord record;
+    record.key = run.key;
+    record.method = run.method;
+    record.label = label(run);
+    record.build = run.build;
+    record.render = run.render;
+    record.swept = run.swept;
+    record.git_revision = "abcdef123456";
+    if (run.failed) {
+      record.status = "failed";
+      record.error = kFailure;
+      return record;
+    }
+    const double render = run.frame_ms * 0.75;
+    const std::map<std::string, double> metrics = {{"relmse", run.relmse},
+                                                   {"rmse", std::sqrt(run.relmse)},
+                                                   {"psnr", 20.0 - 10.0 * std::log10(run.relmse)},
+                                                   {"energy_ratio", 1.0 - run.relmse},
+                                                   {"nonfinite_pixels", 0}};
+    FrameRecord frame;
+    frame.image = "frame_0000.exr";
+    frame.update_ms = {run.frame_ms * 0.25};
+    frame.render_ms = {render};
+    frame.metrics = metrics;
+    record.frames = {frame};
+    record.prepare.prepare_seconds = 0.5;
+    record.timings = {run.frame_ms * 0.24, run.frame_ms * 0.25, render * 0.99, render, run.frame_ms * 0.99, run.frame_ms,
+                      std::nullopt, std::nullopt};
+    record.metrics = metrics;
+    record.memory_bytes = 4800000;
+    record.peak_rss_bytes = 123456789;
+    record.counters = {{"photons_emitted", 12345}};
+    return record;
+  }
+
   void write_run(const FakeRun& run) const {
     fs::path run_folder = folder / "runs" / run.key;
     fs::create_directories(run_folder);
-    json record = {{"key", run.key},     {"method", run.method}, {"label", label(run)},
-                   {"build", run.build}, {"render", run.render}, {"swept", run.swept}};
-    if (run.failed) {
-      record["status"] = "failed";
-      record["error"] = kFailure;
-    } else {
-      double render = run.frame_ms * 0.75;
-      json metrics = {{"relmse", run.relmse},
-                      {"rmse", std::sqrt(run.relmse)},
-                      {"psnr", 20.0 - 10.0 * std::log10(run.relmse)},
-                      {"energy_ratio", 1.0 - run.relmse},
-                      {"nonfinite_pixels", 0}};
-      record.update({{"status", "ok"},
-                     {"error", ""},
-                     {"frames",
-                      {{{"frame", 0},
-                        {"image", "frame_0000.exr"},
-                        {"update_ms", {run.frame_ms * 0.25}},
-                        {"render_ms", {render}},
-                        {"metrics", metrics}}}},
-                     {"prepare_seconds", 0.5},
-                     {"timings",
-                      {{"update_ms_min", run.frame_ms * 0.24},
-                       {"update_ms_median", run.frame_ms * 0.25},
-                       {"render_ms_min", render * 0.99},
-                       {"render_ms_median", render},
-                       {"frame_ms_min", run.frame_ms * 0.99},
-                       {"frame_ms_median", run.frame_ms}}},
-                     {"metrics", metrics},
-                     {"memory_bytes", 4800000},
-                     {"peak_rss_bytes", 123456789},
-                     {"counters", {{"photons_emitted", 12345}}},
-                     {"method_record", json::object()}});
-      write_exr(blob(std::sqrt(run.relmse)), (run_folder / "frame_0000.exr").string());
-    }
-    write_json(run_folder / "record.json", record);
+    if (!run.failed) write_exr(blob(std::sqrt(run.relmse)), (run_folder / "frame_0000.exr").string());
+    write_json(run_folder / "record.json", fake_record(run).to_json());
   }
 
   void TearDown() override {

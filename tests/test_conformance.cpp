@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -151,6 +152,11 @@ TEST_P(Conformance, OutputIsWellFormedOnEveryShippedSceneItAccepts) {
         lit_off_receiver += !result.gbuffer.receiver[pixel] && value != 0.0f;
       }
     }
+    std::set<std::string> reported, declared;
+    for (const auto& [name, value] : result.counters) reported.insert(name);
+    for (const QuantityInfo& counter : info().counters) declared.insert(counter.name);
+    EXPECT_EQ(reported, declared) << where << ": counters() must report exactly MethodInfo::counters (the quantity "
+                                              "registry's list of what claims, tables and plots may use)";
     EXPECT_EQ(bad, 0u) << where << ": non-finite or negative values";
     EXPECT_EQ(lit_off_receiver, 0u) << where << ": values off the receivers";
   }

@@ -21,6 +21,7 @@
 using namespace causticbench;
 using causticbench::testing::run_command;
 namespace fs = std::filesystem;
+using nlohmann::json;
 
 namespace {
 
@@ -209,12 +210,39 @@ TEST(Experiment, ClaimsAreValidated) {
   - {text: linear time, kind: linear, x: photons, y: render_ms, among: method=photon_map}
 )";
   Experiment experiment = load_experiment(folder.write("good.yaml", good));
-  ASSERT_EQ(experiment.claims.size(), 2u);
-  EXPECT_EQ(experiment.claims[1]["min_r2"].get<double>(), 0.98);
+  ASSERT_EQ(experiment.report.claims.size(), 2u);
+  EXPECT_EQ(experiment.report.claims[1]["min_r2"].get<double>(), 0.98);
   std::string message = error_of(folder, replace(good, "metric: relmse", "metric: relmes"));
   EXPECT_NE(message.find("did you mean 'relmse'"), std::string::npos) << message;
   message = error_of(folder, replace(good, "kind: linear", "kind: quadratic"));
   EXPECT_NE(message.find("one of best, better, linear"), std::string::npos) << message;
+}
+
+TEST(Experiment, ReportQuantitiesComeFromTheRegistry) {
+  ExperimentFolder folder("experiment_quantities");
+  std::string good = std::string(kExperiment) + R"(metrics: [relmse, rmse]
+tradeoffs: [[frame_ms, relmse], [memory_bytes, relmse], [prepare_seconds, relmse]]
+budgets_ms: [16.7, 100]
+error_targets: [0.1, 0.01]
+claims:
+  - {text: few photons are fast, kind: better, metric: frame_ms, run: photons=1000, than: photons=2000}
+)";
+  Experiment experiment = load_experiment(folder.write("good.yaml", good));
+  ASSERT_EQ(experiment.report.tradeoffs.size(), 3u);
+  EXPECT_EQ(experiment.report.tradeoffs[1], (std::pair<std::string, std::string>{"memory_bytes", "relmse"}));
+  EXPECT_EQ(experiment.to_json()["budgets_ms"], json({16.7, 100}));
+  EXPECT_EQ(load_experiment(folder.write("plain.yaml", kExperiment)).report.tradeoffs.front().first, "frame_ms");
+  std::string message = error_of(folder, replace(good, "metric: frame_ms", "metric: frame_msec"));
+  EXPECT_NE(message.find("did you mean 'frame_ms'"), std::string::npos) << message;
+  message = error_of(folder, replace(good, "[memory_bytes, relmse]", "[memory_byte, relmse]"));
+  EXPECT_NE(message.find("did you mean 'memory_bytes'"), std::string::npos) << message;
+  EXPECT_NE(message.find("bad.yaml:12"), std::string::npos) << "names the line: " << message;
+  message = error_of(folder, replace(good, "[memory_bytes, relmse]", "[memory_bytes, flip]"));
+  EXPECT_NE(message.find("a metric the experiment measures"), std::string::npos) << message;
+  message = error_of(folder, replace(good, "[memory_bytes, relmse]", "[receiver_pixels, relmse]"));
+  EXPECT_NE(message.find("better one way"), std::string::npos) << message;
+  message = error_of(folder, replace(good, "budgets_ms: [16.7, 100]", "budgets_ms: [100, 16.7]"));
+  EXPECT_NE(message.find("increasing order"), std::string::npos) << message;
 }
 
 TEST(Experiment, FilterSelectsByKnobMethodAndLabel) {

@@ -25,7 +25,7 @@ TEST_F(ReportTest, WritesEveryFile) {
   EXPECT_EQ(summary.runs, 7u);
   EXPECT_EQ(summary.failed, 1u);
   EXPECT_EQ(summary.missing, 1u);
-  EXPECT_EQ(summary.plots, 5u);  // trade-off, convergence, sweeps of photons, k and samples
+  EXPECT_EQ(summary.plots, 6u);  // trade-off, total cost, convergence, sweeps of photons, k and samples
   for (const std::string& path : {summary.html, summary.markdown, summary.csv, summary.json})
     EXPECT_TRUE(fs::is_regular_file(path)) << path;
   for (const char* file :

@@ -160,33 +160,26 @@ class VariantReportTest : public ::testing::Test {
     const VariantSpec& variant = variants[run.variant];
     fs::path run_folder = folder / "runs" / run.key;
     fs::create_directories(run_folder);
-    double frame_ms = run.render_ms + 1.0;
-    json metrics = {{"relmse", run.relmse}};
-    write_json(run_folder / "record.json", {{"key", run.key},
-                                            {"status", "ok"},
-                                            {"error", ""},
-                                            {"method", run.method},
-                                            {"label", label(run)},
-                                            {"variant", variant.name},
-                                            {"reference_key", variant.reference_key},
-                                            {"receiver_pixels", variant.receiver_pixels},
-                                            {"build", run.build},
-                                            {"render", run.render},
-                                            {"swept", run.swept},
-                                            {"frames",
-                                             {{{"frame", 0},
-                                               {"image", "frame_0000.exr"},
-                                               {"update_ms", {1.0}},
-                                               {"render_ms", {run.render_ms}},
-                                               {"metrics", metrics}}}},
-                                            {"timings",
-                                             {{"update_ms_median", 1.0},
-                                              {"update_ms_min", 1.0},
-                                              {"render_ms_median", run.render_ms},
-                                              {"render_ms_min", run.render_ms},
-                                              {"frame_ms_median", frame_ms},
-                                              {"frame_ms_min", frame_ms}}},
-                                            {"metrics", metrics}});
+    const double frame_ms = run.render_ms + 1.0;
+    RunRecord record;  // as the runner builds it (experiments/run_record.h)
+    record.key = run.key;
+    record.method = run.method;
+    record.label = label(run);
+    record.variant = variant.name;
+    record.reference_key = variant.reference_key;
+    record.receiver_pixels = variant.receiver_pixels;
+    record.build = run.build;
+    record.render = run.render;
+    record.swept = run.swept;
+    FrameRecord frame;
+    frame.image = "frame_0000.exr";
+    frame.update_ms = {1.0};
+    frame.render_ms = {run.render_ms};
+    frame.metrics = {{"relmse", run.relmse}};
+    record.frames = {frame};
+    record.timings = {1.0, 1.0, run.render_ms, run.render_ms, frame_ms, frame_ms, std::nullopt, std::nullopt};
+    record.metrics = frame.metrics;
+    write_json(run_folder / "record.json", record.to_json());
     write_exr(scaled(blob(run.noise, variant.width, variant.height), variant.gain),
               (run_folder / "frame_0000.exr").string());
   }

@@ -87,6 +87,12 @@ const MethodInfo& LpiMethod::static_info() {
         {"non_lambertian_receivers", "E_c is irradiance, whatever the receiver's BRDF"},
     };
     m.quick_knobs = {"photons_per_sample=20000", "light_subdivision=0"};
+    m.counters = {counter_quantity("light_samples", "samples", "light directions precomputed (over all objects)"),
+                  counter_quantity("photons_emitted", "photons", "photons shot over all light samples and objects"),
+                  counter_quantity("shoot_seconds_per_light_sample", "s", "precomputation time per light sample",
+                                   QuantityKind::timing),
+                  counter_quantity("bytes_per_light_sample", "bytes", "stored irradiance per light sample",
+                                   QuantityKind::size)};
     return m;
   }();
   return info;

@@ -61,6 +61,10 @@ const MethodInfo& PinholeMethod::static_info() {
                {"multiple_bounces", "one specular interaction only"}};
     m.frame_dump = true;
     m.quick_knobs = {"samples=64", "environment_resolution=32"};
+    m.counters = {counter_quantity("samples", "samples", "reflector samples (pinholes) per frame"),
+                  counter_quantity("cube_map_texels", "texels", "texels of the light's cube map"),
+                  counter_quantity("sample_evaluations", "evaluations",
+                                   "receiver pixels x samples of the last frame (the pairs the kernel accounts for)")};
     return m;
   }();
   return info;

@@ -105,6 +105,9 @@ const MethodInfo& ReferenceMethod::static_info() {
     m.quick_knobs = {"photons_per_pass=20000", "max_passes=2", "target_noise_floor=0", "max_seconds=0"};
     // The per-pixel hit points and their progressive statistics (measured: docs/results-format.md, "Memory").
     m.working_bytes_per_pixel = 24.0;
+    m.counters = {counter_quantity("photons_emitted", "photons", "photons emitted over all passes"),
+                  counter_quantity("photons_deposited", "photons", "photon hits gathered on receivers over all passes"),
+                  counter_quantity("passes", "passes", "progressive passes until the stop rule (stop_reason)")};
     return m;
   }();
   return info;

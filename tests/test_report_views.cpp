@@ -1,0 +1,353 @@
+// What the report compares, checked on known answers: the typed run record (write, read, upgrade, a
+// newer version refused, a wrong type named), the quantity registry (every metric, timing, size and
+// counter has a direction; unknown names get a "did you mean"), the equal-time and equal-error views
+// and the break-even count on synthetic points, and, on the synthetic results folder of the report
+// tests, stale runs, any trade-off axes and the views' tables and summary lines.
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "experiments/experiment.h"
+#include "experiments/quantity_registry.h"
+#include "experiments/recompute_metrics.h"
+#include "experiments/record_check.h"
+#include "experiments/run_record.h"
+#include "experiments/runner.h"
+#include "reports/cost_views.h"
+#include "tests/report_test_support.h"
+
+namespace causticbench {
+namespace {
+
+using nlohmann::json;
+using namespace report_testing;
+
+RunRecord full_record() {
+  RunRecord record;
+  record.key = "abc";
+  record.method = "pinhole";
+  record.label = "pinhole samples=100";
+  record.variant = "default";
+  record.reference_key = "ref123";
+  record.git_revision = "0123456789ab";
+  record.reference_settings = {{"photons_per_pass", 4000000}, {"max_passes", 8}};
+  record.build = {{"seed", 1}};
+  record.frame = {{"samples", 100}};
+  record.render = {{"filter", "none"}};
+  record.swept = {{"samples", 100}};
+  record.spec = {{"method", "pinhole"}};
+  record.receiver_pixels = 16384;
+  FrameRecord frame;
+  frame.frame = 3;
+  frame.image = "frame_0003.exr";
+  frame.update_ms = {1.0, 1.5};
+  frame.render_ms = {10.0, 11.0};
+  frame.gpu_render_ms = {0.5, 0.6};
+  frame.metrics = {{"relmse", 0.25}, {"flip", 0.125}};
+  frame.metrics_undefined = {{"energy_ratio", "the reference's flux is 0"}};
+  frame.metric_parameters = {{"flip", {{"pixels_per_degree", 67.02}, {"exposures", 8}}}};
+  record.frames = {frame};
+  record.prepare = {"loaded", "build1", 2.5, 0.25, 0.0, ""};
+  record.timings = {1.0, 1.25, 10.0, 10.5, 11.0, 11.75, 0.5, 0.55};
+  record.metrics = {{"relmse", 0.25}, {"flip", 0.125}};
+  record.metrics_undefined = {{"energy_ratio", "the reference's flux is 0"}};
+  record.empty_reference_frames = std::vector<int>{3};
+  record.empty_reference_reason = "no caustic";
+  record.memory_bytes = 123456;
+  record.peak_rss_bytes = 987654321;
+  record.counters = {{"samples", 100}, {"sample_evaluations", 1638400}};
+  record.method_record = {{"note", "x"}};
+  record.images = {{"frame_0003.exr", {{"bytes", 10}, {"xxhash", "00"}}}};
+  record.reference_images = {{"frame_0003.exr", {{"bytes", 11}, {"xxhash", "01"}}}};
+  record.reference_converged = false;
+  record.reference_unconverged = "time cap";
+  return record;
+}
+
+std::string record_error(const json& stored) {
+  try {
+    RunRecord::from_json(stored);
+  } catch (const RecordError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(RunRecord, WritesAndReadsEveryField) {
+  const json written = full_record().to_json();
+  EXPECT_EQ(written["record_version"], kRunRecordVersion);
+  const RunRecord read = RunRecord::from_json(written);
+  EXPECT_EQ(read.to_json(), written) << written.dump(2);
+  EXPECT_EQ(read.frames.at(0).metric_parameters.at("flip").at("pixels_per_degree"), 67.02);
+  EXPECT_EQ(*read.quantity("frame_ms"), 11.75);
+  EXPECT_EQ(*read.quantity("gpu_render_ms"), 0.55);
+  EXPECT_EQ(*read.quantity("prepare_seconds"), 2.5);
+  EXPECT_EQ(*read.quantity("memory_bytes"), 123456.0);
+  EXPECT_EQ(*read.quantity("sample_evaluations"), 1638400.0);
+  EXPECT_FALSE(read.quantity("energy_ratio")) << "undefined";
+  EXPECT_FALSE(read.quantity("photons_stored")) << "a counter this run does not have";
+  // +inf (psnr of an exact image) is stored as null, which reads back as no value.
+  RunRecord exact = full_record();
+  exact.metrics["psnr"] = std::numeric_limits<double>::infinity();
+  const RunRecord back = RunRecord::from_json(json::parse(exact.to_json().dump()));
+  EXPECT_TRUE(std::isnan(back.metrics.at("psnr")));
+  EXPECT_FALSE(back.metric("psnr"));
+  // A failed run keeps only its identity.
+  RunRecord failed = full_record();
+  failed.status = "failed";
+  failed.error = "out of memory";
+  failed.frames.clear();
+  const json failed_json = failed.to_json();
+  EXPECT_FALSE(failed_json.contains("metrics"));
+  EXPECT_EQ(RunRecord::from_json(failed_json).to_json(), failed_json);
+}
+
+TEST(RunRecord, UpgradesVersionOneAndRefusesNewerVersions) {
+  json version_one = full_record().to_json();
+  for (const char* field : {"record_version", "git_revision", "reference_settings", "variant", "reference_key"})
+    version_one.erase(field);
+  EXPECT_EQ(stored_record_version(version_one), 1);
+  const RunRecord upgraded = RunRecord::from_json(version_one);
+  EXPECT_EQ(upgraded.record_version, kRunRecordVersion);
+  EXPECT_EQ(upgraded.git_revision, "");
+  EXPECT_TRUE(upgraded.reference_settings.is_null());
+  EXPECT_EQ(upgraded.variant, "") << "the report assigns the experiment's variant";
+  EXPECT_EQ(upgraded.metrics, full_record().metrics);
+  EXPECT_EQ(upgrade_run_record(version_one)["record_version"], 2);
+
+  json newer = full_record().to_json();
+  newer["record_version"] = kRunRecordVersion + 1;
+  std::string message = record_error(newer);
+  EXPECT_NE(message.find("newer causticbench"), std::string::npos) << message;
+  EXPECT_NE(message.find(fmt::format("version {}", kRunRecordVersion + 1)), std::string::npos) << message;
+  // The store's check refuses it too, so that `run` measures it again rather than trusting it.
+  EXPECT_NE(run_record_problem(newer, "/nonexistent/abc").find("newer"), std::string::npos);
+
+  json wrong = full_record().to_json();
+  wrong["frames"][0]["frame"] = "3";
+  message = record_error(wrong);
+  EXPECT_EQ(message, "frames[0]: field 'frame' holds string, expected an integer");
+  wrong = full_record().to_json();
+  wrong.erase("timings");
+  EXPECT_EQ(record_error(wrong), "field 'timings' is missing");
+}
+
+TEST(QuantityRegistry, EveryMetricTimingSizeAndCounterHasADirection) {
+  const std::vector<QuantityInfo> all = quantity_registry();
+  std::set<std::string> names;
+  for (const QuantityInfo& quantity : all) {
+    EXPECT_TRUE(names.insert(quantity.name).second) << quantity.name << " twice";
+    EXPECT_FALSE(quantity.definition.empty()) << quantity.name;
+    if (quantity.name != "receiver_pixels")
+      EXPECT_NE(quantity.direction, QuantityDirection::none) << quantity.name;
+    if (quantity.kind == QuantityKind::timing || quantity.kind == QuantityKind::size)
+      EXPECT_FALSE(quantity.unit.empty()) << quantity.name;
+  }
+  for (const MetricInfo& metric : metric_registry()) EXPECT_TRUE(names.count(metric.name)) << metric.name;
+  for (const char* name : {"frame_ms", "render_ms", "update_ms", "prepare_seconds", "memory_bytes", "peak_rss_bytes"})
+    EXPECT_TRUE(names.count(name)) << name;
+  for (const MethodEntry& entry : method_registry())
+    for (const QuantityInfo& counter : entry.info().counters) EXPECT_TRUE(names.count(counter.name)) << counter.name;
+  // Directions as the metrics define them.
+  EXPECT_TRUE(quantity_better("psnr", 30.0, 20.0));
+  EXPECT_TRUE(quantity_better("relmse", 0.1, 0.2));
+  EXPECT_TRUE(quantity_better("energy_ratio", 0.95, 1.1));
+  EXPECT_TRUE(quantity_better("frame_ms", 3.0, 4.0));
+  EXPECT_FALSE(quantity_better("receiver_pixels", 3.0, 4.0)) << "no direction: never better";
+}
+
+TEST(QuantityRegistry, UnknownNamesGetTheClosest) {
+  std::string message = causticbench::testing::input_error_message(
+      [] { require_quantity("frame_msec", "claims[0].metric"); });
+  EXPECT_NE(message.find("did you mean 'frame_ms'"), std::string::npos) << message;
+  message = causticbench::testing::input_error_message([] { require_quantity("receiver_pixels", "tradeoffs[0]"); });
+  EXPECT_NE(message.find("better one way"), std::string::npos) << message;
+  EXPECT_NO_THROW(require_quantity("receiver_pixels", "claims[0].x", false));
+}
+
+// Error is relmse-like (lower is better) unless stated.
+const ErrorBetter kLower = [](double a, double b) { return !std::isnan(a) && (std::isnan(b) || a < b); };
+
+std::vector<CostPoint> synthetic_points() {
+  return {{"A", 5, 0, 0.1},    {"A", 12, 0, 0.02}, {"A", 40, 0, 0.005}, {"B", 8, 0, 0.03},
+          {"B", 30, 0, 0.04},  {"C", 200, 0, 0.001}, {"C", 1, 0, std::nan("")}};
+}
+
+TEST(CostViews, EqualTimeGivesTheBestErrorWithinEachBudget) {
+  auto rows = equal_time_view(synthetic_points(), {"A", "B", "C"}, {10, 35, 100}, kLower);
+  ASSERT_EQ(rows.size(), 3u);
+  auto best = [&](size_t row, size_t method) { return rows[row].methods[method].best; };
+  EXPECT_EQ(best(0, 0), 0u);
+  EXPECT_EQ(best(0, 1), 3u);
+  EXPECT_EQ(best(1, 0), 1u);
+  EXPECT_EQ(best(1, 1), 3u) << "30 ms is within 35 but worse than 8 ms";
+  EXPECT_EQ(best(2, 0), 2u);
+  for (size_t row = 0; row < 3; ++row) {
+    EXPECT_FALSE(best(row, 2)) << "C is never within 100 ms (its 1 ms point has no error)";
+    EXPECT_EQ(rows[row].methods[2].fastest, 5u) << "not reached: says how fast C gets";
+    EXPECT_FALSE(rows[row].methods[0].fastest);
+  }
+}
+
+TEST(CostViews, EqualErrorGivesTheLeastTimeToReachEachTarget) {
+  auto rows = equal_error_view(synthetic_points(), {"A", "B", "C"}, {0.05, 0.01}, kLower);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].methods[0].fastest, 1u) << "A's 5 ms run (0.1) does not reach 0.05";
+  EXPECT_EQ(rows[0].methods[1].fastest, 3u);
+  EXPECT_EQ(rows[0].methods[2].fastest, 5u);
+  EXPECT_EQ(rows[1].methods[0].fastest, 2u);
+  EXPECT_FALSE(rows[1].methods[1].fastest) << "B never reaches 0.01";
+  EXPECT_EQ(rows[1].methods[1].closest, 3u) << "its best is 0.03";
+  // A higher-is-better metric: a target is reached from above.
+  const ErrorBetter higher = [](double a, double b) { return a > b; };
+  std::vector<CostPoint> psnr = {{"A", 5, 0, 20}, {"A", 9, 0, 30}, {"B", 2, 0, 25}};
+  auto above = equal_error_view(psnr, {"A", "B"}, {24}, higher);
+  EXPECT_EQ(above[0].methods[0].fastest, 1u);
+  EXPECT_EQ(above[0].methods[1].fastest, 2u);
+  EXPECT_EQ(default_error_targets(synthetic_points(), kLower), (std::vector<double>{0.03, 0.005, 0.001}));
+  EXPECT_EQ(default_error_targets(psnr, higher), (std::vector<double>{25, 30}));
+}
+
+TEST(CostViews, PrecomputingMethodOvertakesWhereTheTotalCostsCross) {
+  // P precomputes 10 s and renders in 1 ms; F precomputes nothing: 11 ms at the same error, 5 ms at a
+  // worse one (not a competitor), 0.5 ms at a much worse one. 10000 ms / (11 - 1) ms = 1000 frames.
+  std::vector<CostPoint> points = {{"P", 1, 10, 0.01}, {"F", 11, 0, 0.01}, {"F", 5, 0, 0.05}, {"F", 0.5, 0, 0.5}};
+  std::vector<BreakEven> crossings = break_even_view(points, {"P", "F"}, kLower);
+  ASSERT_EQ(crossings.size(), 1u) << "F precomputes nothing: it never 'overtakes'";
+  EXPECT_EQ(crossings[0].precomputing, 0u);
+  EXPECT_EQ(crossings[0].competitor, 1u);
+  EXPECT_EQ(crossings[0].frames, 1000.0);
+  const double frames = crossings[0].frames;
+  EXPECT_DOUBLE_EQ(10.0 * 1000.0 + frames * 1.0, 0.0 + frames * 11.0) << "the totals are equal there";
+  // A competitor as accurate and as fast per frame: never overtaken.
+  points.push_back({"F", 1, 0, 0.005});
+  EXPECT_TRUE(break_even_view(points, {"P", "F"}, kLower).empty());
+}
+
+// The report on the synthetic folder: stale runs, any trade-off, the views.
+TEST_F(ReportTest, RunsOfAnOlderReferenceAreStaleNotCompared) {
+  json experiment = json::parse(read_text(folder / "experiment.json"));
+  experiment["reference"] = {{"photons_per_pass", 2000000}};
+  write_json(folder / "experiment.json", experiment);
+  // pm_1e6, the best relmse, was measured against another reference, with fewer photons per pass.
+  RunRecord record = fake_record(run("pm_1e6"));
+  record.reference_key = "ref000";
+  record.reference_settings = {{"photons_per_pass", 1000000}};
+  write_json(folder / "runs" / "pm_1e6" / "record.json", record.to_json());
+  ReportSummary summary = write_report(folder.string());
+  EXPECT_EQ(summary.failed, 1u) << "stale is not failed";
+  std::string md = read_text(summary.markdown);
+  EXPECT_NE(md.find("1 stale"), std::string::npos) << md;
+  EXPECT_NE(md.find("photons_per_pass 1000000 \u2192 2000000"), std::string::npos) << md;
+  EXPECT_NE(md.find("Failed and stale runs"), std::string::npos);
+  EXPECT_NE(md.find("Best relmse: **photon_map k=50 photons=100000**"), std::string::npos)
+      << "the stale run's 0.005 is not the best\n" << md;
+  json results = json::parse(read_text(summary.json));
+  for (const json& key : results["pareto_front"]["overall"]) EXPECT_NE(key, "pm_1e6");
+  std::vector<std::string> lines = split(read_text(summary.csv), '\n');
+  bool found = false;
+  for (const std::string& line : lines)
+    if (line.rfind("pm_1e6,", 0) == 0) found = csv_cells(line)[1] == "stale";
+  EXPECT_TRUE(found);
+}
+
+TEST_F(ReportTest, TradeoffsOnAnyAxesAndTheViews) {
+  json experiment = json::parse(read_text(folder / "experiment.json"));
+  experiment["tradeoffs"] = json::array({json::array({"frame_ms", "relmse"}), json::array({"memory_bytes", "psnr"}),
+                                         json::array({"frame_msec", "relmse"})});
+  experiment["budgets_ms"] = {10, 16.7, 1000};
+  experiment["error_targets"] = {0.05, 0.01};
+  write_json(folder / "experiment.json", experiment);
+  ReportSummary summary = write_report(folder.string());
+  std::string html = read_text(summary.html), md = read_text(summary.markdown);
+  EXPECT_NE(html.find("plot-tradeoff-memory_bytes-psnr"), std::string::npos);
+  EXPECT_NE(html.find("&#39;frame_msec&#39; is not a quantity"), std::string::npos) << html;
+  EXPECT_NE(html.find("did you mean &#39;frame_ms&#39;"), std::string::npos);
+  // photon_map: (5 ms, 0.1) (12, 0.0123) (40, 0.005) (14, 0.05); pinhole: (8, 0.03) (30, 0.04).
+  EXPECT_NE(md.find("Within 10 ms a frame: pinhole relmse 0.03 (samples=100); photon_map relmse 0.1"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("Within 16.7 ms a frame: photon_map relmse 0.01235 (k=50, photons=100000); pinhole relmse 0.03"),
+            std::string::npos);
+  EXPECT_NE(md.find("| 0.01 | **40 ms \u00b7 relmse 0.005 \u00b7 k=50, photons=1000000** | not reached (best relmse 0.03) |"), std::string::npos) << "equal error, target 0.01";
+  EXPECT_NE(md.find("not reached (best relmse 0.03)"), std::string::npos) << "pinhole never reaches 0.01";
+  EXPECT_EQ(summary.plots, 7u) << "two trade-offs, total cost, convergence, three sweeps";
+}
+
+// A real run, then its metrics recomputed from the stored images: the same numbers; a metric added
+// to experiment.json appears; a run whose image no longer matches its record is left as it was.
+TEST(RecomputeMetrics, GivesTheNumbersOfTheRunAndAddsNewMetrics) {
+  causticbench::testing::TemporaryFolder folder("recompute_metrics");
+  folder.write("scene.yaml", causticbench::testing::replace_once(causticbench::testing::kSmallGlassSphere,
+                                                                 "resolution: [40, 40]", "resolution: [24, 24]"));
+  const std::string experiment_file = folder.write("tiny.yaml", R"(name: tiny
+scene: scene.yaml
+reference: {photons_per_pass: 100000, max_passes: 2, target_noise_floor: 0}
+repetitions: 1
+metrics: [relmse, psnr, flip]
+methods:
+  - method: photon_map
+    render: {max_radius: 0.3}
+    sweep:
+      photons: [2000, 4000]
+)");
+  Experiment experiment = load_experiment(experiment_file);
+  RunOptions options;
+  options.results = folder.path("results");
+  ASSERT_EQ(run_experiment(experiment, options).completed, 2u);
+  const fs::path experiment_folder = fs::path(options.results) / "tiny";
+  auto record_of = [&](const RunSpec& run) {
+    return RunRecord::from_json(json::parse(read_text(experiment_folder / "runs" / run.key / "record.json")));
+  };
+  std::vector<RunRecord> before;
+  for (const RunSpec& run : experiment.runs) before.push_back(record_of(run));
+
+  // experiment.json now also asks for rmse, as after a metric was added.
+  json stored = json::parse(read_text(experiment_folder / "experiment.json"));
+  stored["metrics"] = json::array({"relmse", "psnr", "flip", "rmse"});
+  write_json(experiment_folder / "experiment.json", stored);
+  RecomputeSummary summary = recompute_metrics(experiment_folder.string());
+  EXPECT_EQ(summary.recomputed, 2u);
+  EXPECT_EQ(summary.skipped, 0u);
+  for (size_t r = 0; r < experiment.runs.size(); ++r) {
+    RunRecord after = record_of(experiment.runs[r]);
+    for (const char* metric : {"relmse", "psnr", "flip"}) {
+      ASSERT_TRUE(before[r].metric(metric)) << metric;
+      EXPECT_DOUBLE_EQ(*after.metric(metric), *before[r].metric(metric)) << metric;
+      EXPECT_DOUBLE_EQ(after.frames[0].metrics.at(metric), before[r].frames[0].metrics.at(metric)) << metric;
+    }
+    EXPECT_EQ(after.frames[0].metric_parameters, before[r].frames[0].metric_parameters);
+    ASSERT_TRUE(after.metric("rmse")) << "the added metric";
+    EXPECT_GT(*after.metric("rmse"), 0.0);
+    EXPECT_EQ(after.timings.frame_ms_median, before[r].timings.frame_ms_median) << "nothing else changes";
+    EXPECT_EQ(after.images, before[r].images);
+  }
+
+  // A run image replaced behind the record's back: not scored, its record untouched.
+  const fs::path image = experiment_folder / "runs" / experiment.runs[0].key / "frame_0000.exr";
+  write_exr(Image(24, 24, 3), image.string());
+  const std::string kept = read_text(experiment_folder / "runs" / experiment.runs[0].key / "record.json");
+  summary = recompute_metrics(experiment_folder.string());
+  EXPECT_EQ(summary.recomputed, 1u);
+  EXPECT_EQ(summary.skipped, 1u);
+  ASSERT_EQ(summary.problems.size(), 1u);
+  EXPECT_NE(summary.problems[0].find("truncated or replaced"), std::string::npos) << summary.problems[0];
+  EXPECT_EQ(read_text(experiment_folder / "runs" / experiment.runs[0].key / "record.json"), kept);
+
+  // The reference replaced (computed again with other settings, say): no run is scored against a copy
+  // it was not measured against.
+  const RunRecord second = record_of(experiment.runs[1]);
+  write_exr(Image(24, 24, 3), (fs::path(options.results) / "references" / second.reference_key / "frame_0000.exr").string());
+  const std::string second_kept = read_text(experiment_folder / "runs" / experiment.runs[1].key / "record.json");
+  summary = recompute_metrics(experiment_folder.string());
+  EXPECT_EQ(summary.recomputed, 0u);
+  ASSERT_EQ(summary.problems.size(), 2u);
+  EXPECT_NE(summary.problems[1].find("is not the image the record names"), std::string::npos) << summary.problems[1];
+  EXPECT_EQ(read_text(experiment_folder / "runs" / experiment.runs[1].key / "record.json"), second_kept);
+}
+
+}  // namespace
+}  // namespace causticbench
