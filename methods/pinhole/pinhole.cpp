@@ -7,6 +7,7 @@
 #include "core/optics.h"
 #include "core/parallel.h"
 #include "gpu/cube_filter_check.h"
+#include "methods/pinhole/throughput.h"
 #include "methods/pinhole/vulkan_pinhole.h"
 
 namespace causticbench {
@@ -196,11 +197,6 @@ void PinholeMethod::update(const FrameContext& context, const ParamSet& knobs) {
 
 namespace {
 
-struct Interaction {
-  bool refract = false;
-  bool fresnel = true;
-};
-
 // Direction towards the light seen through a sample (normal n) from a receiver in `direction` (unit,
 // receiver to sample), and the cosine at the sample. Returns false when no light can pass (back
 // face, total internal reflection).
@@ -220,16 +216,6 @@ inline bool light_direction(const Vec3& direction, const Vec3& normal_in, bool t
     return true;
   }
   return refract(direction, -normal, 1.0f / ior, to_light);
-}
-
-// The fraction of radiance carried: reflectance, or transmittance times the radiance compression n^2.
-inline Color light_throughput(const Material& material, const Interaction& interaction, float cos_sample) {
-  float cosine = interaction.fresnel ? cos_sample : 1.0f;
-  if (interaction.refract) {
-    return Color((1.0f - fresnel_dielectric(cosine, 1.0f / material.ior)) * material.ior * material.ior);
-  }
-  if (material.kind == MaterialKind::glass) return Color(fresnel_dielectric(cosine, material.ior));
-  return material.mirror_reflectance(cosine);
 }
 
 // Four- and eight-lane float vectors with the few operations the kernel below needs. SSE2 is part of
@@ -393,7 +379,18 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   for (size_t i = 0; i < count; ++i) two_sided[i] = samples[i].two_sided ? 1.0f : 0.0f;
   const float sample_area = samples.front().area;
   if (!filtered && !interaction.refract) {
-    // The common case (Fig. 4 to 7): geometry in vectorised blocks, then a lookup per facing sample.
+    // The common case (Fig. 4 to 7): geometry in vectorised blocks, then a lookup per facing sample,
+    // with the throughput from a table per material (methods/pinhole/throughput.h).
+    std::vector<ThroughputTable> tables;
+    std::vector<uint16_t> table_of(count);
+    for (size_t i = 0; i < count; ++i) {
+      auto found = std::find_if(tables.begin(), tables.end(),
+                                [&](const ThroughputTable& t) { return t.material() == sample_materials_[i]; });
+      if (found == tables.end()) found = tables.insert(tables.end(), ThroughputTable(*sample_materials_[i], interaction.fresnel));
+      table_of[i] = static_cast<uint16_t>(found - tables.begin());
+    }
+    table_error_ = 0.0f;
+    for (const ThroughputTable& table : tables) table_error_ = std::max(table_error_, table.max_error());
     constexpr size_t kBlock = 256;
     parallel_blocks(gbuffer.pixel_count(), 64, [&](size_t begin, size_t end, size_t) {
       alignas(32) float texel_s[kBlock], texel_t[kBlock], weight[kBlock], cos_sample[kBlock];
@@ -422,7 +419,7 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
             size_t j = indices[k];
             Color radiance = cube_map_.lookup_texel(face[j], texel_s[j], texel_t[j]);
             if (radiance.r + radiance.g + radiance.b <= 0.0f) continue;
-            sum += radiance * light_throughput(*sample_materials_[first + j], interaction, cos_sample[j]) * weight[j];
+            sum += radiance * tables[table_of[first + j]](cos_sample[j]) * weight[j];
           }
         }
         result.set_rgb(pixel, sum);
@@ -540,7 +537,8 @@ nlohmann::json PinholeMethod::record() const {
           {"samples", samples_.samples.size()},
           {"reflector_area", samples_.total_area},
           {"sample_spacing", samples_.spacing},
-          {"cell_or_diameter", samples_.cell_or_diameter}};
+          {"cell_or_diameter", samples_.cell_or_diameter},
+          {"throughput_table_max_error", table_error_}};
 }
 
 }  // namespace causticbench

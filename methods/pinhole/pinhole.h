@@ -37,6 +37,9 @@ class PinholeMethod : public CausticMethod {
   std::vector<int> reflectors_;  // the objects sampled, from prepare()
   SampleSet samples_;
   std::vector<const Material*> sample_materials_;
+  // The largest deviation of the last unfiltered render's throughput tables from the exact Fresnel
+  // (ThroughputTable::max_error), for the run record.
+  float table_error_ = 0.0f;
   LightCubeMap cube_map_;
   std::unique_ptr<DistantLights> cube_map_lights_;  // the lights cube_map_ was built from
   std::unique_ptr<FilteredLightMap> filtered_map_;
