@@ -16,6 +16,7 @@
 #include "methods/pinhole/light_map.h"
 #include "methods/pinhole/pinhole.h"
 #include "methods/pinhole/reflector_sampling.h"
+#include "methods/pinhole/texel_fetch.h"
 #include "methods/pinhole/throughput.h"
 #include "tests/test_support.h"
 
@@ -287,6 +288,23 @@ TEST(PinholeThroughput, TableMatchesTheExactFresnelOfEveryShippedMaterial) {
     }
   }
   EXPECT_GE(materials, 5u) << "the shipped scenes' metals and glass";
+}
+
+// The vector fetch (texel_fetch.h) against the scalar one under an environment map, where every
+// sample-pixel pair fetches: the same per-lane arithmetic, only the order of the sum differs.
+TEST(PinholeThroughput, VectorFetchAgreesWithTheScalarFetch) {
+  if (!vector_fetch_enabled()) GTEST_SKIP() << "no AVX2 here (or CAUSTICBENCH_PINHOLE_SCALAR_FETCH is set)";
+  Scene scene = load_scene(std::string(CAUSTICBENCH_SCENES) + "/ring_forest.yaml");
+  set_resolution(scene, 48, 36);
+  const std::vector<std::string> knobs = {"samples=300", "environment_resolution=64"};
+  FrameResult vector = causticbench::testing::render(scene, "pinhole", knobs);
+  ::setenv("CAUSTICBENCH_PINHOLE_SCALAR_FETCH", "1", 1);
+  FrameResult scalar = causticbench::testing::render(scene, "pinhole", knobs);
+  ::unsetenv("CAUSTICBENCH_PINHOLE_SCALAR_FETCH");
+  const double flux = masked_sum(scalar.caustic, scalar.gbuffer.receiver);
+  ASSERT_GT(flux, 0.0);
+  EXPECT_NEAR(masked_sum(vector.caustic, vector.gbuffer.receiver) / flux, 1.0, 1e-6);
+  EXPECT_LT(relative_mse(vector.caustic, scalar.caustic, scalar.gbuffer.receiver), 1e-10);
 }
 
 TEST(Pinhole, ConvergesToTheReference) {

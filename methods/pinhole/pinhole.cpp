@@ -7,6 +7,7 @@
 #include "core/optics.h"
 #include "core/parallel.h"
 #include "gpu/cube_filter_check.h"
+#include "methods/pinhole/texel_fetch.h"
 #include "methods/pinhole/throughput.h"
 #include "methods/pinhole/vulkan_pinhole.h"
 
@@ -391,6 +392,12 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
     }
     table_error_ = 0.0f;
     for (const ThroughputTable& table : tables) table_error_ = std::max(table_error_, table.max_error());
+    // The same for the vector fetch (texel_fetch.h): the tables' values flat, the table index as int32.
+    std::vector<float> throughput_values;
+    for (const ThroughputTable& table : tables)
+      for (const Color& value : table.values()) throughput_values.insert(throughput_values.end(), {value.r, value.g, value.b});
+    const std::vector<int32_t> table_index(table_of.begin(), table_of.end());
+    const bool vector_fetch = vector_fetch_enabled();
     constexpr size_t kBlock = 256;
     parallel_blocks(gbuffer.pixel_count(), 64, [&](size_t begin, size_t end, size_t) {
       alignas(32) float texel_s[kBlock], texel_t[kBlock], weight[kBlock], cos_sample[kBlock];
@@ -415,7 +422,13 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
             indices[facing] = static_cast<uint16_t>(j);
             facing += (weight[j] > 0.0f) & (occupied[block[j]] != 0);
           }
-          for (size_t k = 0; k < facing; ++k) {
+          size_t k = 0;
+          if (vector_fetch)
+            k = fetch_sum_avx2(FetchBlock{face, texel_s, texel_t, weight, cos_sample, indices, facing,
+                                          cube_map_.texels().data(), cube_map_.resolution(), throughput_values.data(),
+                                          table_index.data() + first},
+                               sum);
+          for (; k < facing; ++k) {
             size_t j = indices[k];
             Color radiance = cube_map_.lookup_texel(face[j], texel_s[j], texel_t[j]);
             if (radiance.r + radiance.g + radiance.b <= 0.0f) continue;

@@ -59,6 +59,7 @@ class ThroughputTable {
   }
 
   const Material* material() const { return material_; }
+  const std::vector<Color>& values() const { return values_; }  // kEntries + 1 (the last repeated)
   float max_error() const { return max_error_; }
 
  private:
