@@ -154,6 +154,19 @@ Table break_even_table(const Report& report, size_t variant) {
   return table;
 }
 
+bool has_views(const Report& report) {
+  return std::any_of(report.views.begin(), report.views.end(), [](const VariantViews& v) { return !v.points.empty(); });
+}
+
+std::string views_caption(const Report& report) {
+  return fmt::format(
+      "Equal time: per frame budget, the best {0} each method reaches with a median frame time within it, and with "
+      "which knobs. Equal error: per target, the least frame time at which each method reaches a {0} at least as "
+      "good{1}. Break-even: after how many frames a run that precomputes more costs no more in total (prepare + N "
+      "\u00d7 frame time) than every run of another method that is at least as accurate. Marked: the best of the row.",
+      report.primary, report.error_targets.empty() ? " (targets: the best error each method reaches)" : "");
+}
+
 std::vector<std::string> budget_lines(const Report& report) {
   std::vector<std::string> lines;
   for (size_t v = 0; v < report.views.size(); ++v) {

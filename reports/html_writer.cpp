@@ -61,8 +61,7 @@ void html_table(std::string& out, const Table& table) {
 
 // The equal-time, equal-error and break-even tables of each variant.
 void views_html(std::string& out, const Report& report) {
-  bool any = std::any_of(report.views.begin(), report.views.end(), [](const VariantViews& v) { return !v.points.empty(); });
-  if (!any) return;
+  if (!has_views(report)) return;
   out += "<h2 id=\"views\">Equal time and equal error</h2>\n";
   for (size_t v = 0; v < report.views.size(); ++v) {
     if (report.views[v].points.empty()) continue;
@@ -77,13 +76,7 @@ void views_html(std::string& out, const Report& report) {
       html_table(out, breaks);
     }
   }
-  out += fmt::format(
-      "<p class=\"caption\">Equal time: per frame budget, the best {0} each method reaches with a median frame time "
-      "within it, and with which knobs. Equal error: per target, the least frame time at which each method reaches a "
-      "{0} at least as good{1}. Break-even: after how many frames a run that precomputes more costs no more in total "
-      "(prepare + N \u00d7 frame time) than every run of another method that is at least as accurate. Green: the "
-      "best of the row.</p>\n",
-      html_escape(report.primary), report.error_targets.empty() ? " (targets: the best error each method reaches)" : "");
+  out += "<p class=\"caption\">" + html_escape(views_caption(report)) + "</p>\n";
 }
 
 }  // namespace

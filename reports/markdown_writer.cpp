@@ -39,14 +39,8 @@ void markdown_table(std::string& out, const Table& table) {
 
 // The equal-time, equal-error and break-even tables of each variant.
 void views_markdown(std::string& out, const Report& report) {
-  bool any = std::any_of(report.views.begin(), report.views.end(), [](const VariantViews& v) { return !v.points.empty(); });
-  if (!any) return;
-  out += "## Equal time and equal error\n\n";
-  out += fmt::format(
-      "Equal time: per frame budget, the best {0} each method reaches with a median frame time within it, and "
-      "with which knobs. Equal error: per target, the least frame time at which each method reaches a {0} at least "
-      "as good{1}. Bold: the best of the row.\n\n",
-      report.primary, report.error_targets.empty() ? " (targets: the best error each method reaches)" : "");
+  if (!has_views(report)) return;
+  out += "## Equal time and equal error\n\n" + views_caption(report) + "\n\n";
   for (size_t v = 0; v < report.views.size(); ++v) {
     if (report.views[v].points.empty()) continue;
     std::string in = report.multi() ? " (variant " + report.variants[v].name + ")" : "";
@@ -57,8 +51,6 @@ void views_markdown(std::string& out, const Report& report) {
     Table breaks = break_even_table(report, v);
     if (!breaks.rows.empty()) {
       out += "### Break-even" + in + "\n\n";
-      out += "After how many frames a run that precomputes more costs no more in total (prepare + N \u00d7 frame "
-             "time) than every run of another method that is at least as accurate.\n\n";
       markdown_table(out, breaks);
     }
   }

@@ -1,12 +1,10 @@
-// Lookups on one run that both the paper table (tables.cpp) and the claims (claims.cpp) make: the value
-// of a named quantity, and the run's resolved knobs.
+// The run's resolved knobs, which the paper table (tables.cpp), the claims (claims.cpp) and the sweep
+// plots match and group by.
 #include "reports/report_model.h"
 
 #include "experiments/experiment.h"
 
 namespace causticbench::report_detail {
-
-std::optional<double> ours(const Run& run, const std::string& column) { return run.quantity(column); }
 
 json run_knobs(const Run& run) {
   json knobs = run.record.knobs();

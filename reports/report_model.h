@@ -235,10 +235,6 @@ struct Report {
   }
 };
 
-// "Ours" for a paper column or a claim's quantity: the run's timing (median when the name has one),
-// metric, top-level number or counter.
-std::optional<double> ours(const Run& run, const std::string& column);
-
 // The run's resolved knobs as record_matches_filter sees them, with the variant the report assigned
 // (an older record names none).
 json run_knobs(const Run& run);

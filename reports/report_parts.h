@@ -70,6 +70,9 @@ void compute_views(Report& report);
 Table equal_time_table(const Report& report, size_t variant);
 Table equal_error_table(const Report& report, size_t variant);
 Table break_even_table(const Report& report, size_t variant);
+// Whether some variant has a point to compare, and what the three tables mean (plain text).
+bool has_views(const Report& report);
+std::string views_caption(const Report& report);
 // "Within 16.7 ms: ..." per budget (and variant): the summary's lines.
 std::vector<std::string> budget_lines(const Report& report);
 

@@ -190,7 +190,7 @@ Table paper_table(const Report& report) {
         const json& paper_value = member(member(row, "values"), column);
         cells.push_back(
             {paper_value.is_number() ? num(paper_value.get<double>()) : value_text(paper_value), false, true});
-        std::optional<double> value = run && run->ok ? ours(*run, column) : std::nullopt;
+        std::optional<double> value = run && run->ok ? run->quantity(column) : std::nullopt;
         cells.push_back(ours_cell(run, column, value));
         if (value && paper_value.is_number() && paper_value.get<double>() != 0.0)
           cells.push_back({"\u00d7" + fmt::format("{:.3g}", *value / paper_value.get<double>()), false, true});
