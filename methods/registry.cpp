@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "methods/csl/csl.h"
 #include "methods/lpi/lpi.h"
 #include "methods/photon_map/photon_map.h"
 #include "methods/pinhole/pinhole.h"
@@ -24,6 +25,7 @@ std::vector<MethodEntry>& mutable_registry() {
       entry<PhotonMapMethod>(),
       entry<PinholeMethod>(),
       entry<LpiMethod>(),
+      entry<CslMethod>(),
   };
   return registry;
 }

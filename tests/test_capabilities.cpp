@@ -56,6 +56,10 @@ struct CapabilityScene {
   std::string yaml;
   int frame = 0;          // the frame rendered (animated scenes: 1, so that the rest pose is not it)
   std::string why;        // what a method without the capability gets wrong here
+  // A capability the scene is built on besides the one it checks (the mirror sphere's reflection):
+  // for a method that declares it false, the scene cannot check this capability; the measurement is
+  // printed and nothing is asserted.
+  std::string built_on;
 };
 
 const std::map<std::string, CapabilityScene>& capability_scenes() {
@@ -107,13 +111,13 @@ objects:
     transform: {translate: [1.5, 1.5, 0], rotate: [0, 0, -45]}
 )",
         0, "a single-interaction method sees no light reaching the floor: energy 0"}},
-      {"directional_light", {mirror_sphere_scene(kTiltedSun), 0, "no light at all"}},
+      {"directional_light", {mirror_sphere_scene(kTiltedSun), 0, "no light at all", "reflection"}},
       // A point light 0.54 above the sphere's top (1.04 from its centre): it lights only the cap within
       // 61 degrees of it, not the band near the equator that sends light steeply down onto the floor,
       // and the fan it makes diverges more than a distant light's.
       {"point_light",
        {mirror_sphere_scene("{type: point, position: [0.3, 2.2, 0], intensity: 1, radius: 0.05}"), 0,
-        "taken as distant, the light reaches the equatorial band and the fan is several times too bright"}},
+        "taken as distant, the light reaches the equatorial band and the fan is several times too bright", "reflection"}},
       // A broad procedural Gaussian spot: 0.2 sr, sigma = sqrt(0.2 / 2 pi) = 0.18 rad (10 degrees).
       {"environment_light",
        {mirror_sphere_scene("{type: environment, procedural: gaussian_spot, direction: [0.4, -1, 0], irradiance: 1, solid_angle_sr: 0.2}"), 0,
@@ -130,7 +134,7 @@ objects:
       {"moving_objects",
        {mirror_sphere_scene(kTiltedSun, "{type: diffuse, albedo: 0.8}",
                             "    animation: {keyframes: [{frame: 0, translate: [-2.6, 1.2, 0]}, {frame: 1, translate: [0, 1.2, 0.3]}]}\n", 2),
-        1, "the caustic of the rest pose, mostly out of view"}},
+        1, "the caustic of the rest pose, mostly out of view", "reflection"}},
       // Light from the +x side: the sphere reflects most of it back towards +x, where a diffuse wall
       // (1 high, 0.1 thick) stands 0.9 from its axis and blocks the outer part of the fan. From above,
       // the camera sees the floor in the wall's caustic shadow.
@@ -144,7 +148,7 @@ objects:
       // on the receiver's BRDF, so this checks that a glossy receiver is handled at all.
       {"non_lambertian_receivers",
        {mirror_sphere_scene(kTiltedSun, "{type: glossy, albedo: 0.5, specular: 0.3, exponent: 20}"), 0,
-        "nothing, unless the method cannot take a glossy receiver"}},
+        "nothing, unless the method cannot take a glossy receiver", "reflection"}},
   };
   return scenes;
 }
@@ -203,6 +207,8 @@ const std::map<std::string, std::map<std::string, std::vector<std::string>>>& kn
       // 2 x 20,000 photons leave the progressive gather at relMSE 0.03 to 0.22 (point light 0.19);
       // 2 x 100,000: 0.006 to 0.059.
       {"reference", {{"*", {"photons_per_pass=100000"}}}},
+      // 48 rays a side leave the spot lights' images nearly empty; 512: relMSE 0.15 on the water.
+      {"csl", {{"*", {"rays_per_side=512"}}}},
   };
   return overrides;
 }
@@ -393,6 +399,20 @@ TEST_P(CapabilityConformance, DeclarationMatchesMeasurement) {
   ASSERT_GT(masked_sum(reference.caustic, reference.gbuffer.receiver), 0.0) << capability << ": the reference sees no caustic";
   ASSERT_LT(reference.noise_floor, kRelMseBound / 10.0) << capability << ": reference noise floor";
   Measurement m = measure(method, capability);
+  const std::string& built_on = capability_scenes().at(capability).built_on;
+  if (!built_on.empty() && !find_method(method).info().capabilities.entries().empty()) {
+    bool has = true;
+    for (const auto& [name, value] : find_method(method).info().capabilities.entries()) {
+      if (name == built_on) has = value;
+    }
+    if (!has) {
+      m.agrees = true;
+      measurements().push_back(m);
+      std::printf("%s (not judged: the scene is built on %s, which %s declares false)\n", describe(m).c_str(),
+                  built_on.c_str(), method.c_str());
+      return;
+    }
+  }
   if (m.declared) {
     m.agrees = m.verdict == Verdict::hold;
     EXPECT_TRUE(m.agrees) << "declared capability does not hold: " << describe(m);

@@ -154,19 +154,11 @@ void LpiMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
     ObjectFrame& view = frame_[i];
     view.map = build_space_map(scene_->objects[object.object], frame.frame.frame);
     for (const LightFrame& light : frame.frame.lights) {
+      const ObjectLight seen = object_light(view.map, light, object.bounds.center);
+      if (!seen.valid) continue;
       lpi::LightView light_view;
-      Vec3 direction;
-      if (light.kind == LightKind::point) {
-        // A point light as a directional one from the object's centre (the paper's assumption).
-        const Vec3 to_light = view.map.point(light.position) - object.bounds.center;
-        if (!(glm::length(to_light) > 0.0f)) continue;  // a light at the centre has no direction
-        const Vec3 world_offset = glm::inverse(view.map.linear) * to_light;  // the distance is the world's
-        direction = glm::normalize(to_light);
-        light_view.irradiance = light.light->intensity / std::max(1e-12f, glm::dot(world_offset, world_offset));
-      } else {
-        direction = glm::normalize(view.map.vector(light.direction_to_light));
-        light_view.irradiance = light.light->irradiance;
-      }
+      light_view.irradiance = seen.irradiance;
+      const Vec3 direction = seen.direction;
       light_view.reads = light_reads(object.samples, direction, blend);
       view.lights.push_back(light_view);
     }

@@ -30,7 +30,7 @@ class LpiMethod : public CausticMethod {
 
  private:
   struct ObjectFrame {
-    lpi::BuildSpaceMap map;
+    BuildSpaceMap map;
     std::vector<lpi::LightView> lights;
   };
 

@@ -15,30 +15,11 @@ using namespace lpi;
 
 namespace {
 
-// Every light's direction towards it in the object's build space, per rendered frame.
-std::vector<std::vector<Vec3>> light_directions(const Scene& scene, int object, const BoundingSphere& bounds,
-                                                const std::vector<int>& frames) {
-  std::vector<std::vector<Vec3>> directions(scene.lights.size());
-  for (int frame : frames) {
-    const BuildSpaceMap map = build_space_map(scene.objects[object], frame);
-    for (size_t l = 0; l < scene.lights.size(); ++l) {
-      const LightFrame light = pose_light(scene.lights[l], frame);
-      Vec3 direction = light.kind == LightKind::point ? map.point(light.position) - bounds.center
-                                                      : map.vector(light.direction_to_light);
-      if (!(glm::length(direction) > 0.0f)) continue;
-      directions[l].push_back(glm::normalize(direction));
-    }
-  }
-  return directions;
-}
-
-bool same_direction(const Vec3& a, const Vec3& b) { return glm::length(a - b) <= 1e-6f; }
-
 // Model only what the scene requires: a light whose direction in the object's frame never changes
 // gets its one direction; otherwise the set the knobs describe.
 LightSampleSet choose_samples(const Scene& scene, int object, const BoundingSphere& bounds, const std::vector<int>& frames,
                               const ParamSet& build) {
-  const std::vector<std::vector<Vec3>> directions = light_directions(scene, object, bounds, frames);
+  const std::vector<std::vector<Vec3>> directions = object_light_directions(scene, object, bounds.center, frames);
   const std::string symmetry = build.text("symmetry");
   const int level = static_cast<int>(build.integer("light_subdivision"));
   if (symmetry == "spherical") {
@@ -54,16 +35,9 @@ LightSampleSet choose_samples(const Scene& scene, int object, const BoundingSphe
     }
     return set;
   }
-  bool fixed = true;
-  std::vector<Vec3> distinct;
-  for (const auto& light : directions) {
-    for (const Vec3& direction : light) fixed = fixed && same_direction(direction, light.front());
-    if (light.empty()) continue;
-    bool known = false;
-    for (const Vec3& seen : distinct) known = known || same_direction(seen, light.front());
-    if (!known) distinct.push_back(light.front());
-  }
-  if (build.text("light_samples") == "auto" && fixed && !distinct.empty()) {
+  const std::optional<std::vector<Vec3>> fixed = fixed_light_directions(directions);
+  if (build.text("light_samples") == "auto" && fixed) {
+    const std::vector<Vec3>& distinct = *fixed;
     LightSampleSet set;
     set.kind = "static";
     set.directions = distinct;

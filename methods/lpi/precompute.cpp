@@ -10,21 +10,6 @@
 
 namespace causticbench::lpi {
 
-BuildSpaceMap build_space_map(const SceneObject& object, double frame) {
-  const Transform transform = object.transform.at(frame);
-  const glm::dvec3 rest_scale = object.transform.scale.at(0.0);
-  glm::dmat3 scale(1.0);
-  scale[0][0] = rest_scale.x;
-  scale[1][1] = rest_scale.y;
-  scale[2][2] = rest_scale.z;
-  const glm::dmat3 linear = scale * glm::dmat3(transform.inverse);
-  BuildSpaceMap map;
-  map.linear = glm::mat3(linear);
-  map.offset = Vec3(scale * glm::dvec3(transform.inverse[3]));
-  map.normals = glm::mat3(glm::transpose(glm::inverse(linear)));
-  return map;
-}
-
 std::unique_ptr<VolumeLayout> make_layout(const VolumeSettings& settings, const BoundingSphere& bounds) {
   const float radius = static_cast<float>(settings.volume_radius) * bounds.radius;
   if (settings.storage == StorageKind::grid) {
@@ -32,19 +17,6 @@ std::unique_ptr<VolumeLayout> make_layout(const VolumeSettings& settings, const 
   }
   return std::make_unique<ShellLayout>(bounds.center, radius, settings.shell_count, settings.shell_subdivision,
                                        static_cast<ShellSpacing>(settings.shell_spacing));
-}
-
-Scene build_space_scene(const Scene& scene, int object) {
-  Scene alone;
-  alone.source = scene.source;
-  alone.name = scene.name + " / " + scene.objects[object].name + " alone";
-  alone.camera = scene.camera;
-  alone.frames = 1;
-  SceneObject copy = scene.objects[object];
-  copy.transform = AnimatedTransform{};
-  copy.transform.scale = Vec3Track::constant(scene.objects[object].transform.scale.at(0.0));
-  alone.objects.push_back(std::move(copy));
-  return alone;
 }
 
 void shoot_light_samples(const Scene& build_scene, const VolumeSettings& settings, ObjectVolumes& volumes,

@@ -4,9 +4,7 @@
 // way is not part of it), every segment after the first specular bounce added into the sampled
 // volume by the layout's track-length estimator.
 //
-// Build space: the object scaled as at frame 0, neither rotated nor translated. A frame's world
-// point p maps to it by S0 T_f^-1 p (T_f: the object's transform at that frame, S0: its scale at
-// frame 0), so the caustic moves and turns with the object and one build serves any placement of it.
+// Build space: methods/common/build_space.h.
 #pragma once
 
 #include <memory>
@@ -17,6 +15,7 @@
 
 #include "core/photon_tracer.h"
 #include "core/scene.h"
+#include "methods/common/build_space.h"
 #include "methods/lpi/light_samples.h"
 #include "methods/lpi/stored_values.h"
 #include "methods/lpi/volume_layout.h"
@@ -38,15 +37,6 @@ struct VolumeSettings {
   uint64_t seed = 1;
 };
 
-// A frame's map from world space into an object's build space.
-struct BuildSpaceMap {
-  glm::mat3 linear{1.0f};   // S0 M_f^-1
-  Vec3 offset{0.0f};
-  glm::mat3 normals{1.0f};  // inverse transpose of `linear`, for normals (normalise after)
-  Vec3 point(const Vec3& p) const { return linear * p + offset; }
-  Vec3 vector(const Vec3& v) const { return linear * v; }
-};
-BuildSpaceMap build_space_map(const SceneObject& object, double frame);
 
 struct ObjectVolumes {
   int object = -1;
@@ -60,9 +50,6 @@ struct ObjectVolumes {
 };
 
 std::unique_ptr<VolumeLayout> make_layout(const VolumeSettings& settings, const BoundingSphere& bounds);
-
-// The object alone, posed in build space (a scene of one object, for the photon tracer).
-Scene build_space_scene(const Scene& scene, int object);
 
 // Computes volumes.values for every direction of volumes.samples: photons_per_sample photons per
 // light sample, photon i of sample s drawing only from Random(seed, s 2^32 + i) and summed in fixed

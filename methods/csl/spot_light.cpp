@@ -1,0 +1,232 @@
+#include "methods/csl/spot_light.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace causticbench::csl {
+
+double Profile::area_ratio(double r, double z) const {
+  // sigma = |s s'| / r with s = r (1 - z g(r)): the 1/r cancels, so the limit at r = 0 needs no care.
+  return std::fabs((1.0 - z * g(r)) * ds(r, z));
+}
+
+namespace {
+
+// Positive roots of A r^2 + B r + C = 0 up to max_radius, appended with `side`. The product form
+// q = -(B + sign(B) sqrt(B^2 - 4AC)) / 2, roots q / A and C / q, loses no digits when A is tiny
+// (one root tends to -C / B, the other beyond any image) or when B^2 >> AC.
+void positive_roots(double a, double b, double c, double max_radius, int side, Radii& radii) {
+  auto keep = [&](double r) {
+    if (!(r > 0.0 && r <= max_radius)) return;
+    for (int i = 0; i < radii.count; ++i) {
+      if (radii.side[i] == side && radii.radius[i] == r) return;  // a double root, once
+    }
+    if (radii.count < 3) {
+      radii.radius[radii.count] = r;
+      radii.side[radii.count] = side;
+      ++radii.count;
+    }
+  };
+  if (a == 0.0) {
+    if (b != 0.0) keep(-c / b);
+    return;
+  }
+  const double discriminant = b * b - 4.0 * a * c;
+  if (discriminant < 0.0) return;
+  const double q = -0.5 * (b + std::copysign(std::sqrt(discriminant), b));
+  if (q == 0.0) {  // b = 0 and c = 0: the double root 0, which is not a positive radius
+    return;
+  }
+  keep(q / a);
+  keep(c / q);
+}
+
+}  // namespace
+
+Radii Profile::radii(double z, double rho, double max_radius) const {
+  // s(r) = -A r^2 - B r with A = z kappa beta, B = z kappa - 1; s(r) = +rho (case i) and -rho (case ii).
+  const double a = z * kappa * beta, b = z * kappa - 1.0;
+  Radii radii;
+  positive_roots(a, b, rho, max_radius, +1, radii);
+  positive_roots(a, b, -rho, max_radius, -1, radii);
+  return radii;
+}
+
+IntensityImage::IntensityImage(int size, int channels, float half_size, const std::vector<float>& values,
+                               Precision precision)
+    : size_(size), channels_(channels), half_size_(half_size), precision_(precision) {
+  if (size <= 0 || (channels != 1 && channels != 3) || !(half_size > 0.0f) ||
+      values.size() != static_cast<size_t>(size) * size * channels) {
+    throw std::invalid_argument("IntensityImage: inconsistent size, channels, half size or values");
+  }
+  if (precision == Precision::float32) {
+    floats_ = values;
+  } else {
+    scales_.assign(channels, 0.0f);
+    for (size_t i = 0; i < values.size(); ++i) scales_[i % channels] = std::max(scales_[i % channels], values[i]);
+    for (float& scale : scales_) scale = scale > 0.0f ? scale / 65535.0f : 1.0f;
+    quantised_.resize(values.size());
+    for (size_t i = 0; i < values.size(); ++i) {
+      const float q = std::round(std::max(0.0f, values[i]) / scales_[i % channels]);
+      quantised_[i] = static_cast<uint16_t>(std::min(65535.0f, q));
+    }
+  }
+  build_radial_table();
+}
+
+float IntensityImage::texel(int i, int j, int channel) const {
+  const size_t index = (static_cast<size_t>(j) * size_ + i) * channels_ + channel;
+  return precision_ == Precision::float32 ? floats_[index] : quantised_[index] * scales_[channel];
+}
+
+std::vector<float> IntensityImage::decoded() const {
+  std::vector<float> values(static_cast<size_t>(size_) * size_ * channels_);
+  for (int j = 0; j < size_; ++j) {
+    for (int i = 0; i < size_; ++i) {
+      for (int c = 0; c < channels_; ++c) values[(static_cast<size_t>(j) * size_ + i) * channels_ + c] = texel(i, j, c);
+    }
+  }
+  return values;
+}
+
+void IntensityImage::lookup(float x, float y, float* out) const {
+  for (int c = 0; c < channels_; ++c) out[c] = 0.0f;
+  const float scale = size_ / (2.0f * half_size_);
+  const float fx = (x + half_size_) * scale - 0.5f, fy = (y + half_size_) * scale - 0.5f;
+  if (!(fx > -1.0f && fy > -1.0f && fx < size_ && fy < size_)) return;
+  const int i0 = static_cast<int>(std::floor(fx)), j0 = static_cast<int>(std::floor(fy));
+  const float tx = fx - i0, ty = fy - j0;
+  const float weights[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty};
+  const int is[4] = {i0, i0 + 1, i0, i0 + 1}, js[4] = {j0, j0, j0 + 1, j0 + 1};
+  for (int k = 0; k < 4; ++k) {
+    if (is[k] < 0 || js[k] < 0 || is[k] >= size_ || js[k] >= size_) continue;
+    for (int c = 0; c < channels_; ++c) out[c] += weights[k] * texel(is[k], js[k], c);
+  }
+}
+
+void IntensityImage::build_radial_table() {
+  // The ring integral J(r) = integral over theta of I(r, theta) r of the bilinear image, sampled at
+  // bin edges with angles half a texel apart along the ring, and integrated over r assuming J linear
+  // in each bin: exact for an image constant near the axis, where the on-axis disks are small.
+  radial_bins_ = 2 * size_;
+  radial_.assign(static_cast<size_t>(radial_bins_ + 1) * channels_, 0.0);
+  ring_.assign(static_cast<size_t>(radial_bins_ + 1) * channels_, 0.0);
+  const double width = 2.0 * half_size_ / size_, bin_width = max_radius() / radial_bins_;
+  float value[3];
+  for (int k = 0; k <= radial_bins_; ++k) {
+    const double r = k * bin_width;
+    const int angles = std::max(16, static_cast<int>(std::ceil(2.0 * kPiDouble * r / (0.5 * width))));
+    for (int m = 0; m < angles; ++m) {
+      const double theta = 2.0 * kPiDouble * (m + 0.5) / angles;
+      lookup(static_cast<float>(r * std::cos(theta)), static_cast<float>(r * std::sin(theta)), value);
+      for (int c = 0; c < channels_; ++c) ring_[static_cast<size_t>(k) * channels_ + c] += value[c] * r * 2.0 * kPiDouble / angles;
+    }
+  }
+  for (int k = 0; k < radial_bins_; ++k) {
+    for (int c = 0; c < channels_; ++c) {
+      const size_t here = static_cast<size_t>(k) * channels_ + c, next = here + channels_;
+      radial_[next] = radial_[here] + 0.5 * (ring_[here] + ring_[next]) * bin_width;
+    }
+  }
+}
+
+void IntensityImage::flux_within(double r, double* out) const {
+  const double bin_width = max_radius() / radial_bins_;
+  const double position = std::clamp(r / bin_width, 0.0, static_cast<double>(radial_bins_));
+  const int k = std::min(radial_bins_ - 1, static_cast<int>(position));
+  const double t = (position - k) * bin_width;
+  for (int c = 0; c < channels_; ++c) {
+    const size_t here = static_cast<size_t>(k) * channels_ + c, next = here + channels_;
+    // J linear over the bin: C(r_k + t) = C_k + J_k t + (J_k+1 - J_k) t^2 / (2 bin).
+    out[c] = radial_[here] + ring_[here] * t + 0.5 * (ring_[next] - ring_[here]) * t * t / bin_width;
+  }
+}
+
+void IntensityImage::total_flux(double* out) const {
+  const double area = std::pow(2.0 * half_size_ / size_, 2);
+  for (int c = 0; c < channels_; ++c) out[c] = 0.0;
+  for (int j = 0; j < size_; ++j) {
+    for (int i = 0; i < size_; ++i) {
+      for (int c = 0; c < channels_; ++c) out[c] += texel(i, j, c) * area;
+    }
+  }
+}
+
+size_t IntensityImage::memory_bytes() const {
+  return floats_.size() * sizeof(float) + quantised_.size() * sizeof(uint16_t) + scales_.size() * sizeof(float) +
+         (radial_.size() + ring_.size()) * sizeof(double);
+}
+
+void set_plane_axes(SpotLight& light) { orthonormal_basis(light.axis, light.u, light.v); }
+
+Vec3 SpotLight::ray_direction(double x, double y) const {
+  const double r = std::sqrt(x * x + y * y);
+  const double g = profile.g(r);
+  const glm::dvec3 direction = glm::dvec3(axis) - g * (x * glm::dvec3(u) + y * glm::dvec3(v));
+  return Vec3(glm::normalize(direction));
+}
+
+int SpotLight::evaluate(const Vec3& point, const Vec3& normal, float footprint_radius, const EvaluationSettings& settings,
+                        float* out) const {
+  const int channels = image.channels();
+  const glm::dvec3 offset = glm::dvec3(point) - glm::dvec3(origin);
+  const glm::dvec3 a(axis);
+  const double z = glm::dot(offset, a);
+  if (!(z > 0.0)) return 0;  // the rays start at the light plane
+  glm::dvec3 across = offset - z * a;
+  double rho = glm::length(across);
+  const double max_radius = image.max_radius();
+  const double half = image.half_size();
+  float value[3];
+  if (settings.on_axis == OnAxis::epsilon && rho < settings.axis_epsilon) {
+    // The paper's treatment: move the point out to epsilon from the axis.
+    across = rho > 0.0 ? across * (settings.axis_epsilon / rho) : settings.axis_epsilon * glm::dvec3(u);
+    rho = settings.axis_epsilon;
+  } else if (settings.on_axis == OnAxis::integrate && rho < footprint_radius) {
+    // The disk of the receiver's footprint, centred on the axis, gathers the flux of every ray whose
+    // signed radius at this height is within it: the central rays and the ring focused here. Its
+    // flux over its area is the limit the point values average to (finite where they diverge).
+    const double disk = footprint_radius;
+    const Radii edges = profile.radii(z, disk, max_radius);
+    double breaks[5] = {0.0, max_radius, 0.0, 0.0, 0.0};
+    int count = 2;
+    for (int i = 0; i < edges.count; ++i) breaks[count++] = edges.radius[i];
+    std::sort(breaks, breaks + count);
+    double flux[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i + 1 < count; ++i) {
+      const double middle = 0.5 * (breaks[i] + breaks[i + 1]);
+      if (!(breaks[i + 1] > breaks[i]) || std::fabs(profile.s(middle, z)) >= disk) continue;
+      double inner[3], outer[3];
+      image.flux_within(breaks[i], inner);
+      image.flux_within(breaks[i + 1], outer);
+      for (int c = 0; c < channels; ++c) flux[c] += outer[c] - inner[c];
+    }
+    const double cosine = std::max(0.0, -glm::dot(glm::dvec3(normal), a));
+    const double area = kPiDouble * disk * disk;
+    for (int c = 0; c < channels; ++c) out[c] += static_cast<float>(flux[c] / area * cosine);
+    return 1;
+  }
+  if (!(rho > 0.0)) return 0;
+  const glm::dvec3 outward = across / rho;
+  const Radii radii = profile.radii(z, rho, max_radius);
+  int contributing = 0;
+  for (int i = 0; i < radii.count; ++i) {
+    const double r = radii.radius[i];
+    const glm::dvec3 from = (radii.side[i] * r) * outward;  // p - c
+    const double x = glm::dot(from, glm::dvec3(u)), y = glm::dot(from, glm::dvec3(v));
+    if (std::fabs(x) > half || std::fabs(y) > half) continue;  // beyond the light plane's image
+    image.lookup(static_cast<float>(x), static_cast<float>(y), value);
+    // Eq. 4, bounded so that a point exactly on the envelope where two radii merge stays finite.
+    const double correction = settings.intensity_correction ? 1.0 / std::max(1e-6, profile.area_ratio(r, z)) : 1.0;
+    const glm::dvec3 direction = glm::normalize(a - profile.g(r) * from);
+    // The image holds flux per unit light-plane area; a receiver facing n takes |n.e| / |a.e| of it.
+    const double cosine = std::max(0.0, -glm::dot(glm::dvec3(normal), direction)) / glm::dot(a, direction);
+    if (cosine <= 0.0) continue;
+    for (int c = 0; c < channels; ++c) out[c] += static_cast<float>(value[c] * correction * cosine);
+    ++contributing;
+  }
+  return contributing;
+}
+
+}  // namespace causticbench::csl

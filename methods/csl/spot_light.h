@@ -1,0 +1,127 @@
+// A caustic spot light (Liu et al. 2008, Section 2): a light plane through origin c with normal a (the
+// optical axis), from whose every point p at radius r one ray leaves towards the axis point
+// c + f(r) a, f(r) = alpha / (1 + beta r) (Eq. 1), with the intensity the plane's image holds at p.
+//
+// Parameterised here by the curvature kappa = 1 / alpha, so that the collimated limit (alpha -> inf)
+// is kappa = 0 and not an overflow, and a negative kappa describes a diverging bundle (a virtual
+// focus behind the plane, as convex mirrors make), which the paper's alpha > 0 cannot. With
+// g(r) = 1 / f(r) = kappa (1 + beta r), the ray from p = c + r u leaves along a - r g(r) u and meets
+// the plane parallel to the light plane at height z at the signed radius s(r) = r (1 - z g(r)) on
+// u's side: the case (i) and case (ii) equations of Section 2.2 are s(r) = rho and s(r) = -rho.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/math.h"
+
+namespace causticbench::csl {
+
+// The up to three radii of the rays that meet a point at height z above the plane and distance rho
+// from the axis (Eqs. 2 and 3), each with the side of the axis it leaves from (+1: the point's side,
+// case (i); -1: the opposite side, case (ii)). Only radii in (0, max_radius] are kept.
+struct Radii {
+  int count = 0;
+  double radius[3] = {0.0, 0.0, 0.0};
+  int side[3] = {0, 0, 0};
+};
+
+// The profile of a spot light along its axis: kappa, beta. Pure functions of (r, z); no image.
+struct Profile {
+  double kappa = 0.0;  // 1 / alpha, 1/m
+  double beta = 0.0;   // 1/m, >= 0
+
+  double g(double r) const { return kappa * (1.0 + beta * r); }
+  // Signed radius at height z of the ray leaving radius r.
+  double s(double r, double z) const { return r * (1.0 - z * g(r)); }
+  // ds/dr at height z.
+  double ds(double r, double z) const { return 1.0 - z * kappa - 2.0 * z * kappa * beta * r; }
+  // Eq. 4: the area ratio sigma = |h h'| / r of the beam from radius r at height z (1 at z = 0). Its
+  // limit at r -> 0 is (1 - z kappa)^2.
+  double area_ratio(double r, double z) const;
+  // Eqs. 2 and 3, solved in a form that stays exact as beta z kappa -> 0 (the quadratic degenerates
+  // into the linear equation of beta = 0 or a collimated light) and as z -> 0.
+  Radii radii(double z, double rho, double max_radius) const;
+};
+
+// An intensity image over the square [-half_size, half_size]^2 of the light plane, in the plane's
+// (u, v) coordinates: flux per unit light-plane area (W/m^2 per W/m^2 of the light's irradiance),
+// one or three channels, stored as float32 or as uint16 with one scale per channel.
+class IntensityImage {
+ public:
+  enum class Precision { float32, uint16 };
+  IntensityImage() = default;
+  // `values`: size x size x channels floats, row-major, texel (i, j) centred at
+  // (-half + (i + 0.5) w, -half + (j + 0.5) w), w = 2 half / size.
+  IntensityImage(int size, int channels, float half_size, const std::vector<float>& values, Precision precision);
+
+  int size() const { return size_; }
+  int channels() const { return channels_; }
+  float half_size() const { return half_size_; }
+  Precision precision() const { return precision_; }
+  // Bilinear lookup at plane coordinates (x, y); zero beyond the image's edge texels.
+  void lookup(float x, float y, float* out) const;
+  // The flux of the rays leaving radii [0, r] (all channels) of the bilinear image, from a table
+  // over radius built at construction: what the on-axis integration reads.
+  void flux_within(double r, double* out) const;
+  // The largest radius the image covers (its corner).
+  double max_radius() const { return half_size_ * 1.41421356237; }
+  // Total flux per channel: the sum of the texels times their area.
+  void total_flux(double* out) const;
+  size_t memory_bytes() const;
+  // The raw stored values (for the build cache) and the decoded one at a texel.
+  const std::vector<uint16_t>& quantised() const { return quantised_; }
+  const std::vector<float>& floats() const { return floats_; }
+  const std::vector<float>& scales() const { return scales_; }
+  float texel(int i, int j, int channel) const;
+  // The values as floats, whatever the precision: what the constructor takes back.
+  std::vector<float> decoded() const;
+
+ private:
+  void build_radial_table();
+
+  int size_ = 0, channels_ = 1;
+  float half_size_ = 0.0f;
+  Precision precision_ = Precision::float32;
+  std::vector<float> floats_;
+  std::vector<uint16_t> quantised_;
+  std::vector<float> scales_;  // uint16: per channel, value = q * scale
+  // Per channel at radius k * max_radius / bins, k = 0..bins: the flux within it, and the ring
+  // integral there.
+  int radial_bins_ = 0;
+  std::vector<double> radial_, ring_;
+};
+
+enum class OnAxis { integrate, epsilon };
+
+struct EvaluationSettings {
+  bool intensity_correction = true;  // Eq. 4 (Fig. 6 compares on and off)
+  OnAxis on_axis = OnAxis::integrate;
+  double axis_epsilon = 1e-4;        // epsilon mode: points nearer the axis are moved out to it (scene units)
+};
+
+// One caustic spot light, in its object's build space.
+struct SpotLight {
+  Vec3 origin{0.0f};                 // c
+  Vec3 axis{0.0f, 0.0f, 1.0f};       // a, unit
+  Vec3 u{1.0f, 0.0f, 0.0f}, v{0.0f, 1.0f, 0.0f};  // the light plane's axes, with a a right-handed frame
+  Profile profile;
+  IntensityImage image;
+  // Whether this light's image adds to the frame (a CSL kept only to complete an interpolation
+  // triple does not; Section 4.3).
+  bool adds = true;
+
+  // Direction of the ray leaving plane offset (x, y) (plane coordinates), unit.
+  Vec3 ray_direction(double x, double y) const;
+  // Caustic irradiance at `point` on a surface with unit `normal` facing the side it is lit from,
+  // per unit light irradiance, into out[0..2]. `footprint_radius`: radius of the disk the receiver
+  // point stands for (the pixel's footprint), used where that disk reaches the axis
+  // (OnAxis::integrate). Returns the number of rays that contributed.
+  int evaluate(const Vec3& point, const Vec3& normal, float footprint_radius, const EvaluationSettings& settings,
+               float* out) const;
+};
+
+// Sets u and v from the axis (a fixed choice, so that a light plane's image is reproducible).
+void set_plane_axes(SpotLight& light);
+
+}  // namespace causticbench::csl

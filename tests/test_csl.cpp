@@ -1,0 +1,134 @@
+// csl (Liu 2008) as a method: against the reference on the glass sphere, the scenes it refuses,
+// objects without caustic rays, the intensity correction of Fig. 6. Its closed forms and fitting
+// stages: test_csl_math.cpp; the interface checks every method shares: test_conformance.cpp.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "core/errors.h"
+#include "core/image_statistics.h"
+#include "methods/lifecycle.h"
+#include "methods/registry.h"
+#include "tests/test_support.h"
+
+using namespace causticbench;
+using causticbench::testing::input_error_message;
+using causticbench::testing::kSmallGlassSphere;
+using causticbench::testing::replace_once;
+using causticbench::testing::scene_from_yaml;
+
+namespace {
+
+const std::vector<std::string> kReferenceKnobs = {"photons_per_pass=200000", "max_passes=6", "min_passes=1",
+                                                  "target_noise_floor=0", "max_seconds=0", "seed=7"};
+
+// Receivers farther than `radius` from the reference's brightest receiver: away from the focus,
+// where a caustic's peak value depends on how finely it is resolved more than on the method.
+std::vector<uint8_t> away_from_focus(const FrameResult& reference, float radius) {
+  size_t brightest = 0;
+  for (size_t pixel = 0; pixel < reference.gbuffer.pixel_count(); ++pixel) {
+    if (reference.gbuffer.receiver[pixel] && reference.caustic.at(pixel, 1) > reference.caustic.at(brightest, 1)) {
+      brightest = pixel;
+    }
+  }
+  std::vector<uint8_t> mask(reference.gbuffer.pixel_count(), 0);
+  for (size_t pixel = 0; pixel < mask.size(); ++pixel) {
+    mask[pixel] = reference.gbuffer.receiver[pixel] &&
+                  glm::length(reference.gbuffer.position[pixel] - reference.gbuffer.position[brightest]) > radius;
+  }
+  return mask;
+}
+
+std::vector<uint8_t> receivers(const FrameResult& result) { return result.gbuffer.receiver; }
+
+}  // namespace
+
+// The glass sphere under a directional light: a few spot lights cover it, and its E_c agrees with
+// the reference's away from the focus and in total. Measured (256 rays a side, reference 6 x
+// 200,000 photons): 5 spot lights covering 0.969 of the rays' energy, relMSE 0.164 away from the
+// focus, energy ratio 0.989. Bounds about twice the errors.
+TEST(Csl, GlassSphereMatchesTheReference) {
+  const Scene scene = scene_from_yaml(replace_once(kSmallGlassSphere, "resolution: [40, 40]", "resolution: [64, 64]"));
+  const FrameResult reference = causticbench::testing::render(scene, "reference", kReferenceKnobs);
+  const FrameResult csl = causticbench::testing::render(scene, "csl", {"rays_per_side=256"});
+  const nlohmann::json& set = csl.method_record["objects"][0]["sets"][0];
+  EXPECT_EQ(csl.method_record["objects"][0]["light_sample_set"], "static");
+  const std::vector<uint8_t> away = away_from_focus(reference, 0.1f);
+  const double relmse = relative_mse(csl.caustic, reference.caustic, away);
+  const double energy = masked_sum(csl.caustic, receivers(csl)) / masked_sum(reference.caustic, receivers(reference));
+  std::printf("glass sphere: %d spot lights, coverage %.3f, relMSE away from the focus %.4f, energy ratio %.4f\n",
+              set["spot_lights"].get<int>(), set["coverage"].get<double>(), relmse, energy);
+  EXPECT_LE(set["spot_lights"].get<int>(), 8);
+  EXPECT_GE(set["coverage"].get<double>(), 0.95);
+  EXPECT_LT(relmse, 0.3);
+  EXPECT_NEAR(energy, 1.0, 0.03);
+  // Fig. 6: without the intensity correction of Eq. 4 the focusing is lost.
+  const FrameResult uncorrected =
+      causticbench::testing::render(scene, "csl", {"rays_per_side=256", "intensity_correction=off"});
+  const double uncorrected_relmse = relative_mse(uncorrected.caustic, reference.caustic, away);
+  std::printf("glass sphere without the intensity correction: relMSE away from the focus %.4f\n", uncorrected_relmse);
+  EXPECT_GT(uncorrected_relmse, 2.0 * relmse);
+}
+
+// Scenes csl cannot represent are refused before any ray is traced, naming what is wrong.
+TEST(Csl, RefusesScenesItCannotRepresent) {
+  const Scene no_specular = scene_from_yaml(replace_once(kSmallGlassSphere, "material: {type: glass, ior: 1.5}",
+                                                         "material: {type: diffuse, albedo: 0.5}"));
+  EXPECT_NE(input_error_message([&] { causticbench::testing::render(no_specular, "csl", {"rays_per_side=8"}); })
+                .find("has none"),
+            std::string::npos);
+  const Scene environment = scene_from_yaml(replace_once(
+      kSmallGlassSphere, "lights: [{type: directional, direction: [0.3, -1, 0.2], irradiance: 1}]",
+      "lights: [{type: environment, procedural: gaussian_spot, direction: [0.3, -1, 0.2], irradiance: 1, solid_angle_sr: 0.1}]"));
+  EXPECT_NE(input_error_message([&] { causticbench::testing::render(environment, "csl", {"rays_per_side=8"}); })
+                .find("environment light"),
+            std::string::npos);
+}
+
+// An object that sends no light on (a black mirror) makes no spot light and no caustic, and stays finite.
+TEST(Csl, AnObjectWithoutCausticRaysGivesNothing) {
+  const Scene black = scene_from_yaml(
+      replace_once(kSmallGlassSphere, "material: {type: glass, ior: 1.5}", "material: {type: mirror, reflectance: 0}"));
+  const FrameResult csl = causticbench::testing::render(black, "csl", {"rays_per_side=32"});
+  EXPECT_EQ(csl.method_record["objects"][0]["sets"][0]["spot_lights"], 0);
+  EXPECT_EQ(masked_sum(csl.caustic, csl.gbuffer.receiver), 0.0);
+}
+
+// Model only what the scene requires: one rendered frame of an animated light is a static light; a
+// light that turns over the rendered frames needs the dynamic sets of Section 4, which are not built
+// yet, and is refused before any ray is traced.
+TEST(Csl, ModelsOnlyTheLightDirectionsTheFramesNeed) {
+  const std::string animated = replace_once(
+      kSmallGlassSphere, "direction: [0.3, -1, 0.2], irradiance: 1",
+      "direction: [0.3, -1, 0.2], irradiance: 1, animation: {keyframes: [{frame: 0, direction: [0.3, -1, 0.2]}, {frame: 1, direction: [-0.4, -1, 0]}]}");
+  const Scene moving = scene_from_yaml("frames: 2\n" + animated);
+  const FrameResult one = causticbench::testing::render(moving, "csl", {"rays_per_side=16"}, 1);
+  EXPECT_EQ(one.method_record["objects"][0]["light_sample_set"], "static");
+  EXPECT_EQ(one.method_record["objects"][0]["sets"].size(), 1u);
+  const MethodEntry& entry = find_method("csl");
+  std::unique_ptr<CausticMethod> method = entry.create();
+  ParamDict dict;
+  dict.set_assignment("rays_per_side=16", "test");
+  const PhaseKnobs knobs = split_phases(dict.resolve(entry.info().params, "csl"), entry.info().params);
+  const RestPose rest(moving, {0, 1});
+  const std::string message = input_error_message([&] { prepare_method(*method, rest.context(), knobs.build); });
+  EXPECT_NE(message.find("changes over the 2 rendered frame(s)"), std::string::npos) << message;
+}
+
+// An object moved by its animation carries its spot lights along: frame 1 renders as the same object
+// standing at frame 1's place does.
+TEST(Csl, TheCausticMovesWithItsObject) {
+  const std::string still = replace_once(kSmallGlassSphere, "translate: [0, 0.6, 0]", "translate: [0.2, 0.6, -0.1]");
+  const std::string moving = "frames: 2\n" + replace_once(kSmallGlassSphere, "transform: {translate: [0, 0.6, 0]}",
+                                                          "animation: {keyframes: [{frame: 0, translate: [0, 0.6, 0]}, "
+                                                          "{frame: 1, translate: [0.2, 0.6, -0.1]}]}");
+  const FrameResult a = causticbench::testing::render(scene_from_yaml(still), "csl", {"rays_per_side=64"});
+  const FrameResult b = causticbench::testing::render(scene_from_yaml(moving), "csl", {"rays_per_side=64"}, 1);
+  double largest = 0.0, difference = 0.0;
+  for (size_t i = 0; i < a.caustic.values().size(); ++i) {
+    largest = std::max(largest, static_cast<double>(a.caustic.values()[i]));
+    difference = std::max(difference, std::fabs(static_cast<double>(a.caustic.values()[i]) - b.caustic.values()[i]));
+  }
+  ASSERT_GT(largest, 0.0);
+  EXPECT_LT(difference, 1e-4 * largest);
+}
