@@ -19,9 +19,6 @@ using causticbench::testing::scene_from_yaml;
 
 namespace {
 
-const std::vector<std::string> kReferenceKnobs = {"photons_per_pass=200000", "max_passes=6", "min_passes=1",
-                                                  "target_noise_floor=0", "max_seconds=0", "seed=7"};
-
 // Receivers farther than `radius` from the reference's brightest receiver: away from the focus,
 // where a caustic's peak value depends on how finely it is resolved more than on the method.
 std::vector<uint8_t> away_from_focus(const FrameResult& reference, float radius) {
@@ -49,7 +46,7 @@ std::vector<uint8_t> receivers(const FrameResult& result) { return result.gbuffe
 // focus, energy ratio 0.989. Bounds about twice the errors.
 TEST(Csl, GlassSphereMatchesTheReference) {
   const Scene scene = scene_from_yaml(replace_once(kSmallGlassSphere, "resolution: [40, 40]", "resolution: [64, 64]"));
-  const FrameResult reference = causticbench::testing::render(scene, "reference", kReferenceKnobs);
+  const FrameResult reference = causticbench::testing::render(scene, "reference", causticbench::testing::kSmallSceneReferenceKnobs);
   const FrameResult csl = causticbench::testing::render(scene, "csl", {"rays_per_side=256"});
   const nlohmann::json& set = csl.method_record["objects"][0]["sets"][0];
   EXPECT_EQ(csl.method_record["objects"][0]["light_sample_set"], "static");

@@ -22,9 +22,6 @@ using causticbench::testing::scene_from_yaml;
 
 namespace {
 
-const std::vector<std::string> kReferenceKnobs = {"photons_per_pass=200000", "max_passes=6", "min_passes=1",
-                                                  "target_noise_floor=0", "max_seconds=0", "seed=7"};
-
 // Receivers within `radius` of `center`: where lpi sampled the caustic.
 std::vector<uint8_t> inside_volume(const GBuffer& gbuffer, const Vec3& center, float radius) {
   std::vector<uint8_t> mask(gbuffer.pixel_count(), 0);
@@ -74,7 +71,7 @@ ParamSet build_knobs(const std::vector<std::string>& knobs) {
 // about twice the measured errors.
 TEST(Lpi, GlassSphereMatchesTheReferenceInsideTheVolume) {
   const Scene scene = scene_from_yaml(kSmallGlassSphere);
-  const FrameResult reference = causticbench::testing::render(scene, "reference", kReferenceKnobs);
+  const FrameResult reference = causticbench::testing::render(scene, "reference", causticbench::testing::kSmallSceneReferenceKnobs);
   const std::vector<uint8_t> mask = inside_volume(reference.gbuffer, Vec3(0.0f, 0.6f, 0.0f), 1.2f);
   struct Case {
     std::vector<std::string> knobs;
@@ -121,7 +118,7 @@ objects:
     transform: {{translate: [0, 0.2, 0]}}
 )",
                                                   -chosen.x, -chosen.y, -chosen.z));
-  const FrameResult reference = causticbench::testing::render(scene, "reference", kReferenceKnobs);
+  const FrameResult reference = causticbench::testing::render(scene, "reference", causticbench::testing::kSmallSceneReferenceKnobs);
   const std::vector<uint8_t> mask = inside_volume(reference.gbuffer, Vec3(0.0f, 0.2f, 0.0f), 3.0f * 0.6325f);
   for (const std::string orientation : {"orientation=vector", "orientation=paper"}) {
     const FrameResult lpi = causticbench::testing::render(scene, "lpi", {"light_samples=all", "light_subdivision=1", orientation,

@@ -21,6 +21,9 @@ objects:
     transform: {translate: [0, 0.6, 0]}
 )";
 
+const std::vector<std::string> kSmallSceneReferenceKnobs = {"photons_per_pass=200000", "max_passes=6", "min_passes=1",
+                                                             "target_noise_floor=0", "max_seconds=0", "seed=7"};
+
 Scene scene_from_yaml(const std::string& yaml, const std::string& name) {
   return load_scene_from_string(yaml, name, ".");
 }

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "methods/method_runner.h"
 
@@ -11,6 +12,9 @@ namespace causticbench::testing {
 
 // A glass sphere (radius 0.4) above a diffuse floor under a tilted directional light, 40 x 40 pixels.
 extern const char* const kSmallGlassSphere;
+// Reference knobs for the small scenes' method-against-reference tests: 6 x 200,000 photons, seed 7
+// (not the methods' default seed).
+extern const std::vector<std::string> kSmallSceneReferenceKnobs;
 
 Scene scene_from_yaml(const std::string& yaml, const std::string& name = "test.yaml");
 

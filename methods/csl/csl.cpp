@@ -153,12 +153,13 @@ void CslMethod::prepare(const PrepareContext& context, const ParamSet& build) {
   // Every object's light directions first, so that a scene this build cannot serve is refused before
   // any ray is traced.
   std::vector<std::vector<Vec3>> directions;
+  std::vector<Scene> alone_scenes;
   for (int object : context.rest.specular_objects()) {
     ObjectSets sets;
     sets.object = object;
     sets.name = context.scene.objects[object].name;
-    const Scene alone = build_space_scene(context.scene, object);
-    sets.bounds = SceneFrame(alone, 0.0).bounds[0];
+    alone_scenes.push_back(build_space_scene(context.scene, object));
+    sets.bounds = SceneFrame(alone_scenes.back(), 0.0).bounds[0];
     const auto per_light = object_light_directions(context.scene, object, sets.bounds.center, context.frames);
     const std::optional<std::vector<Vec3>> fixed = fixed_light_directions(per_light);
     bool any = false;
@@ -186,8 +187,7 @@ void CslMethod::prepare(const PrepareContext& context, const ParamSet& build) {
   tree.min_energy = static_cast<float>(build.real("min_energy"));
   for (size_t i = 0; i < objects_.size(); ++i) {
     ObjectSets& sets = objects_[i];
-    const Scene alone = build_space_scene(context.scene, sets.object);
-    const SceneFrame frame(alone, 0.0);
+    const SceneFrame frame(alone_scenes[i], 0.0);
     const Tracer tracer(frame);
     for (const Vec3& direction : directions[i]) {
       const ObjectRays rays = trace_object_rays(tracer, sets.bounds, direction, rays_per_side, tree);
@@ -236,12 +236,14 @@ void CslMethod::update(const FrameContext& frame, const ParamSet&) {
 Image CslMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
   Image result(gbuffer.width, gbuffer.height, 3);
   std::vector<double> evaluations(gbuffer.pixel_count() / 1024 + 1, 0.0);
+  std::vector<EvaluationSettings> settings_of;  // per object (axis_epsilon is in its bounding radii)
+  for (const ObjectSets& sets : objects_) settings_of.push_back(evaluation_settings(render, sets.bounds));
   parallel_blocks(gbuffer.pixel_count(), 1024, [&](size_t begin, size_t end, size_t) {
     double count = 0.0;
     for (size_t i = 0; i < objects_.size(); ++i) {
       const ObjectFrame& view = frame_[i];
       if (view.lights.empty()) continue;
-      const EvaluationSettings settings = evaluation_settings(render, objects_[i].bounds);
+      const EvaluationSettings& settings = settings_of[i];
       for (size_t pixel = begin; pixel < end; ++pixel) {
         if (!gbuffer.receiver[pixel]) continue;
         const Vec3 point = view.map.point(gbuffer.position[pixel]);
