@@ -129,7 +129,7 @@ objects:
             "{type: directional, direction: [-0.8, -1, 0], irradiance: 1, solid_angle_sr: 0.02, animation: {keyframes: "
             "[{frame: 0, direction: [-0.8, -1, 0.0]}, {frame: 1, direction: [0.5, -1, 0.3]}]}}",
             "{type: diffuse, albedo: 0.8}", "", 2),
-        1, "the fan of frame 0, on the other side of the sphere"}},
+        1, "the fan of frame 0, on the other side of the sphere", "reflection"}},
       // The sphere moves in from beside the view (frame 0, x = -2.6) to its middle (frame 1, rendered).
       {"moving_objects",
        {mirror_sphere_scene(kTiltedSun, "{type: diffuse, albedo: 0.8}",

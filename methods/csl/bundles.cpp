@@ -149,7 +149,6 @@ std::vector<uint32_t> assign(const std::vector<CausticRay>& rays, const std::vec
 
 Bundle grow_bundle(const std::vector<CausticRay>& rays, const std::vector<uint8_t>& active, const RayRaster& raster,
                    int cell, const BundleSettings& settings) {
-  Bundle bundle;
   glm::dvec3 low, high;
   raster.cell_box(cell, low, high);
   // Step 2: the rays through the richest cell, their mean origin and direction.
@@ -163,9 +162,17 @@ Bundle grow_bundle(const std::vector<CausticRay>& rays, const std::vector<uint8_
     direction += double(rays[i].weight) * glm::dvec3(rays[i].direction);
     total += rays[i].weight;
   }
-  if (seeds.empty() || !(total > 0.0) || !(glm::length(direction) > 0.0)) return bundle;
-  bundle.axis.origin = origin / total;
-  bundle.axis.direction = glm::normalize(direction);
+  if (seeds.empty() || !(total > 0.0) || !(glm::length(direction) > 0.0)) return Bundle{};
+  BundleAxis start;
+  start.origin = origin / total;
+  start.direction = glm::normalize(direction);
+  return refine_bundle(rays, active, start, settings);
+}
+
+Bundle refine_bundle(const std::vector<CausticRay>& rays, const std::vector<uint8_t>& active, const BundleAxis& start,
+                     const BundleSettings& settings) {
+  Bundle bundle;
+  bundle.axis = start;
   const double tolerance = 1e-6 * std::max(1e-9, settings.distance_threshold);
   // Steps 3 to 5.
   for (bundle.iterations = 1; bundle.iterations <= settings.max_iterations; ++bundle.iterations) {

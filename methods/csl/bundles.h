@@ -66,6 +66,11 @@ struct Bundle {
 Bundle grow_bundle(const std::vector<CausticRay>& rays, const std::vector<uint8_t>& active, const RayRaster& raster,
                    int cell, const BundleSettings& settings);
 
+// Steps 3 to 5 from a given axis: what grow_bundle does after its seed, and what tracking a spot
+// light's axis to a neighbouring light direction does at each step (Section 4.2, step 3).
+Bundle refine_bundle(const std::vector<CausticRay>& rays, const std::vector<uint8_t>& active, const BundleAxis& start,
+                     const BundleSettings& settings);
+
 // Step 4: the energy-weighted mean direction, and the point nearest all members' lines in the least
 // squares sense (pulled very slightly to their mean origin, so that a parallel bundle, whose lines
 // have no nearest point along their direction, stays determined).

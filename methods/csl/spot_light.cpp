@@ -158,75 +158,13 @@ size_t IntensityImage::memory_bytes() const {
          (radial_.size() + ring_.size()) * sizeof(double);
 }
 
-void set_plane_axes(SpotLight& light) { orthonormal_basis(light.axis, light.u, light.v); }
+void set_plane_axes(SpotGeometry& light) { orthonormal_basis(light.axis, light.u, light.v); }
 
-Vec3 SpotLight::ray_direction(double x, double y) const {
+Vec3 SpotGeometry::ray_direction(double x, double y) const {
   const double r = std::sqrt(x * x + y * y);
   const double g = profile.g(r);
   const glm::dvec3 direction = glm::dvec3(axis) - g * (x * glm::dvec3(u) + y * glm::dvec3(v));
   return Vec3(glm::normalize(direction));
-}
-
-int SpotLight::evaluate(const Vec3& point, const Vec3& normal, float footprint_radius, const EvaluationSettings& settings,
-                        float* out) const {
-  const int channels = image.channels();
-  const glm::dvec3 offset = glm::dvec3(point) - glm::dvec3(origin);
-  const glm::dvec3 a(axis);
-  const double z = glm::dot(offset, a);
-  if (!(z > 0.0)) return 0;  // the rays start at the light plane
-  glm::dvec3 across = offset - z * a;
-  double rho = glm::length(across);
-  const double max_radius = image.max_radius();
-  const double half = image.half_size();
-  float value[3];
-  if (settings.on_axis == OnAxis::epsilon && rho < settings.axis_epsilon) {
-    // The paper's treatment: move the point out to epsilon from the axis.
-    across = rho > 0.0 ? across * (settings.axis_epsilon / rho) : settings.axis_epsilon * glm::dvec3(u);
-    rho = settings.axis_epsilon;
-  } else if (settings.on_axis == OnAxis::integrate && rho < footprint_radius) {
-    // The disk of the receiver's footprint, centred on the axis, gathers the flux of every ray whose
-    // signed radius at this height is within it: the central rays and the ring focused here. Its
-    // flux over its area is the limit the point values average to (finite where they diverge).
-    const double disk = footprint_radius;
-    const Radii edges = profile.radii(z, disk, max_radius);
-    double breaks[5] = {0.0, max_radius, 0.0, 0.0, 0.0};
-    int count = 2;
-    for (int i = 0; i < edges.count; ++i) breaks[count++] = edges.radius[i];
-    std::sort(breaks, breaks + count);
-    double flux[3] = {0.0, 0.0, 0.0};
-    for (int i = 0; i + 1 < count; ++i) {
-      const double middle = 0.5 * (breaks[i] + breaks[i + 1]);
-      if (!(breaks[i + 1] > breaks[i]) || std::fabs(profile.s(middle, z)) >= disk) continue;
-      double inner[3], outer[3];
-      image.flux_within(breaks[i], inner);
-      image.flux_within(breaks[i + 1], outer);
-      for (int c = 0; c < channels; ++c) flux[c] += outer[c] - inner[c];
-    }
-    const double cosine = std::max(0.0, -glm::dot(glm::dvec3(normal), a));
-    const double area = kPiDouble * disk * disk;
-    for (int c = 0; c < channels; ++c) out[c] += static_cast<float>(flux[c] / area * cosine);
-    return 1;
-  }
-  if (!(rho > 0.0)) return 0;
-  const glm::dvec3 outward = across / rho;
-  const Radii radii = profile.radii(z, rho, max_radius);
-  int contributing = 0;
-  for (int i = 0; i < radii.count; ++i) {
-    const double r = radii.radius[i];
-    const glm::dvec3 from = (radii.side[i] * r) * outward;  // p - c
-    const double x = glm::dot(from, glm::dvec3(u)), y = glm::dot(from, glm::dvec3(v));
-    if (std::fabs(x) > half || std::fabs(y) > half) continue;  // beyond the light plane's image
-    image.lookup(static_cast<float>(x), static_cast<float>(y), value);
-    // Eq. 4, bounded so that a point exactly on the envelope where two radii merge stays finite.
-    const double correction = settings.intensity_correction ? 1.0 / std::max(1e-6, profile.area_ratio(r, z)) : 1.0;
-    const glm::dvec3 direction = glm::normalize(a - profile.g(r) * from);
-    // The image holds flux per unit light-plane area; a receiver facing n takes |n.e| / |a.e| of it.
-    const double cosine = std::max(0.0, -glm::dot(glm::dvec3(normal), direction)) / glm::dot(a, direction);
-    if (cosine <= 0.0) continue;
-    for (int c = 0; c < channels; ++c) out[c] += static_cast<float>(value[c] * correction * cosine);
-    ++contributing;
-  }
-  return contributing;
 }
 
 }  // namespace causticbench::csl

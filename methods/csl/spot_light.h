@@ -10,6 +10,8 @@
 // u's side: the case (i) and case (ii) equations of Section 2.2 are s(r) = rho and s(r) = -rho.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -100,28 +102,64 @@ struct EvaluationSettings {
   double axis_epsilon = 1e-4;        // epsilon mode: points nearer the axis are moved out to it (scene units)
 };
 
-// One caustic spot light, in its object's build space.
-struct SpotLight {
+// The geometry of a caustic spot light in its object's build space: its light plane and profile.
+struct SpotGeometry {
   Vec3 origin{0.0f};                 // c
   Vec3 axis{0.0f, 0.0f, 1.0f};       // a, unit
   Vec3 u{1.0f, 0.0f, 0.0f}, v{0.0f, 1.0f, 0.0f};  // the light plane's axes, with a a right-handed frame
   Profile profile;
+
+  // Direction of the ray leaving plane offset (x, y) (plane coordinates), unit.
+  Vec3 ray_direction(double x, double y) const;
+};
+
+// What evaluation reads of a spot light's image, so that one evaluation serves a stored image and the
+// blend of up to three that an interpolated spot light reads (methods/csl/interpolation.h):
+//   int channels() const;
+//   double max_radius() const;                        no ray leaves the plane farther out
+//   bool lookup(double x, double y, float* out) const; false, out untouched, beyond the image
+//   void flux_within(double r, double* out) const;     the flux of the rays leaving radii [0, r]
+class StoredImage {
+ public:
+  explicit StoredImage(const IntensityImage& image) : image_(image) {}
+  int channels() const { return image_.channels(); }
+  double max_radius() const { return image_.max_radius(); }
+  bool lookup(double x, double y, float* out) const {
+    const double half = image_.half_size();
+    if (std::fabs(x) > half || std::fabs(y) > half) return false;
+    image_.lookup(static_cast<float>(x), static_cast<float>(y), out);
+    return true;
+  }
+  void flux_within(double r, double* out) const { image_.flux_within(r, out); }
+
+ private:
+  const IntensityImage& image_;
+};
+
+// Caustic irradiance at `point` on a surface with unit `normal` facing the side it is lit from, per
+// unit light irradiance, added to out[0..channels). `footprint_radius`: radius of the disk the
+// receiver point stands for (the pixel's footprint), used where that disk reaches the axis
+// (OnAxis::integrate). Returns the number of rays that contributed.
+template <class Image>
+int evaluate_spot_light(const SpotGeometry& light, const Image& image, const Vec3& point, const Vec3& normal,
+                        float footprint_radius, const EvaluationSettings& settings, float* out);
+
+// One caustic spot light, in its object's build space.
+struct SpotLight : SpotGeometry {
   IntensityImage image;
   // Whether this light's image adds to the frame (a CSL kept only to complete an interpolation
   // triple does not; Section 4.3).
   bool adds = true;
 
-  // Direction of the ray leaving plane offset (x, y) (plane coordinates), unit.
-  Vec3 ray_direction(double x, double y) const;
-  // Caustic irradiance at `point` on a surface with unit `normal` facing the side it is lit from,
-  // per unit light irradiance, into out[0..2]. `footprint_radius`: radius of the disk the receiver
-  // point stands for (the pixel's footprint), used where that disk reaches the axis
-  // (OnAxis::integrate). Returns the number of rays that contributed.
   int evaluate(const Vec3& point, const Vec3& normal, float footprint_radius, const EvaluationSettings& settings,
-               float* out) const;
+               float* out) const {
+    return evaluate_spot_light(*this, StoredImage(image), point, normal, footprint_radius, settings, out);
+  }
 };
 
 // Sets u and v from the axis (a fixed choice, so that a light plane's image is reproducible).
-void set_plane_axes(SpotLight& light);
+void set_plane_axes(SpotGeometry& light);
 
 }  // namespace causticbench::csl
+
+#include "methods/csl/spot_light_evaluate.h"
