@@ -282,3 +282,42 @@ TEST(CslDynamic, GlassSphereUnderATurningLight) {
               nearest_relmse);
   EXPECT_GT(nearest_relmse, 2.0 * dynamic_relmse);
 }
+
+// The build cache keeps a dynamic build exactly: a loaded one renders frame 1 bit for bit as the
+// computed one, and the record is the same; the camera does not enter its key, the frames' facets do.
+TEST(CslDynamic, ALoadedDynamicBuildRendersIdentically) {
+  const std::string animated = replace_once(
+      kSmallGlassSphere, "direction: [0.3, -1, 0.2], irradiance: 1",
+      "direction: [0.3, -1, 0.2], irradiance: 1, animation: {keyframes: [{frame: 0, direction: [0.3, -1, 0.2]}, {frame: 1, direction: [-0.1, -1, 0.1]}]}");
+  const Scene moving = scene_from_yaml("frames: 2\n" + animated);
+  const MethodEntry& entry = find_method("csl");
+  ParamDict dict;
+  for (const char* knob : {"rays_per_side=48", "tracking_rays_per_side=16", "tracking_steps=2", "precision=uint16"}) {
+    dict.set_assignment(knob, "test");
+  }
+  const PhaseKnobs knobs = split_phases(dict.resolve(entry.info().params, "csl"), entry.info().params);
+  const causticbench::testing::TemporaryFolder cache("csl_dynamic_build");
+  const RestPose rest(moving, {0, 1});
+  const PosedFrame frame_one(moving, 1);
+  Image images[2];
+  nlohmann::json records[2];
+  for (int pass = 0; pass < 2; ++pass) {
+    std::unique_ptr<CausticMethod> method = entry.create();
+    const PrepareOutcome outcome = prepare_method(*method, rest.context(), knobs.build, cache.path("builds"));
+    EXPECT_EQ(outcome.source, pass == 0 ? "computed" : "loaded");
+    method->update(frame_one.context(), knobs.frame);
+    images[pass] = method->render(frame_one.gbuffer, knobs.render);
+    records[pass] = method->record();
+  }
+  ASSERT_EQ(records[0]["objects"][0]["light_sample_set"], "dynamic");
+  EXPECT_EQ(images[0].values(), images[1].values());
+  EXPECT_GT(masked_sum(images[0], frame_one.gbuffer.receiver), 0.0);
+  EXPECT_EQ(records[0], records[1]);
+  // Another camera: the same key; frames whose light stays put: another (static sets).
+  std::unique_ptr<CausticMethod> probe = entry.create();
+  const Scene other_camera = scene_from_yaml("frames: 2\n" + replace_once(animated, "position: [0, 2.0, 2.0]", "position: [1, 2.5, 1.0]"));
+  const RestPose other_rest(other_camera, {0, 1});
+  EXPECT_EQ(probe->build_dependencies(other_rest.context(), knobs.build), probe->build_dependencies(rest.context(), knobs.build));
+  const RestPose one_frame(moving, {1});
+  EXPECT_NE(probe->build_dependencies(one_frame.context(), knobs.build), probe->build_dependencies(rest.context(), knobs.build));
+}

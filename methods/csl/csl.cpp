@@ -45,24 +45,17 @@ SpotLightSet csl::make_spot_light_set(const Tracer& tracer, const BoundingSphere
   return set;
 }
 
-void CslMethod::prepare(const PrepareContext& context, const ParamSet& build) {
-  scene_ = &context.scene;
-  objects_.clear();
-  frame_.clear();
-  mesh_.reset();
-  rays_traced_ = 0.0;
+CslMethod::Plan CslMethod::make_plan(const PrepareContext& context, const ParamSet& build,
+                                     std::unique_ptr<lpi::SphericalMesh>& mesh) {
+  Plan plan;
   const bool all = build.text("light_samples") == "all";
   const int level = static_cast<int>(build.integer("light_subdivision"));
-  // Every object's plan first (static directions or the facets of the dynamic set), then the work.
-  std::vector<std::vector<Vec3>> static_directions;
-  std::vector<std::optional<DynamicPlan>> plans;
-  std::vector<Scene> alone_scenes;
   for (int object : context.rest.specular_objects()) {
     ObjectSets sets;
     sets.object = object;
     sets.name = context.scene.objects[object].name;
-    alone_scenes.push_back(build_space_scene(context.scene, object));
-    sets.bounds = SceneFrame(alone_scenes.back(), 0.0).bounds[0];
+    plan.alone.push_back(build_space_scene(context.scene, object));
+    sets.bounds = SceneFrame(plan.alone.back(), 0.0).bounds[0];
     const auto per_light = object_light_directions(context.scene, object, sets.bounds.center, context.frames);
     const std::optional<std::vector<Vec3>> fixed = fixed_light_directions(per_light);
     std::vector<Vec3> seen;
@@ -72,15 +65,17 @@ void CslMethod::prepare(const PrepareContext& context, const ParamSet& build) {
       sets.reason = fmt::format("the light's direction in the object's frame does not change over the {} rendered "
                                 "frame(s): {} static set(s), one per direction",
                                 context.frames.size(), fixed ? fixed->size() : 0);
-      static_directions.push_back(fixed ? *fixed : std::vector<Vec3>{});
-      plans.emplace_back();
+      plan.static_directions.push_back(fixed ? *fixed : std::vector<Vec3>{});
+      plan.dynamic.emplace_back();
+      plan.facets.emplace_back();
     } else {
-      if (!mesh_) mesh_ = std::make_unique<lpi::SphericalMesh>(lpi::SphericalMesh::geodesic_vertices(level));
-      DynamicPlan plan;
-      plan.level = level;
-      plan.all = all;
-      plan.directions = seen;
-      const size_t facets = planned_facets(*mesh_, plan).size();
+      if (!mesh) mesh = std::make_unique<lpi::SphericalMesh>(lpi::SphericalMesh::geodesic_vertices(level));
+      DynamicPlan dynamic;
+      dynamic.level = level;
+      dynamic.all = all;
+      dynamic.directions = seen;
+      plan.facets.push_back(planned_facets(*mesh, dynamic));
+      const size_t facets = plan.facets.back().size();
       sets.set_kind = "dynamic";
       sets.reason = all ? fmt::format("light_samples: all: every one of the {} facets of the icosahedron subdivided {} "
                                       "time(s)",
@@ -88,29 +83,48 @@ void CslMethod::prepare(const PrepareContext& context, const ParamSet& build) {
                         : fmt::format("the light's direction in the object's frame changes over the {} rendered frame(s): "
                                       "the {} facet(s) of the icosahedron subdivided {} time(s) that those directions "
                                       "fall in, of {}",
-                                      context.frames.size(), facets, level, mesh_->triangles().size());
-      static_directions.emplace_back();
-      plans.push_back(plan);
+                                      context.frames.size(), facets, level, mesh->triangles().size());
+      plan.static_directions.emplace_back();
+      plan.dynamic.push_back(dynamic);
     }
-    objects_.push_back(std::move(sets));
+    plan.objects.push_back(std::move(sets));
   }
+  return plan;
+}
+
+void CslMethod::prepare(const PrepareContext& context, const ParamSet& build) {
+  scene_ = &context.scene;
+  frame_.clear();
+  mesh_.reset();
+  rays_traced_ = 0.0;
+  // The plan first (static directions or the facets of each dynamic set), then the work.
+  Plan plan = make_plan(context, build, mesh_);
+  objects_ = std::move(plan.objects);
   for (size_t i = 0; i < objects_.size(); ++i) {
     ObjectSets& sets = objects_[i];
-    const SceneFrame frame(alone_scenes[i], 0.0);
+    const SceneFrame frame(plan.alone[i], 0.0);
     const Tracer tracer(frame);
     auto make = [&](const Vec3& direction) { return make_spot_light_set(tracer, sets.bounds, direction, build); };
-    if (plans[i]) {
-      sets.dynamic = build_dynamic_sets(tracer, sets.bounds, *mesh_, *plans[i], make, tracking_settings(build, sets.bounds));
-      for (const SpotLightSet& set : sets.dynamic->sets) rays_traced_ += set.rays;
+    if (plan.dynamic[i]) {
+      sets.dynamic = build_dynamic_sets(tracer, sets.bounds, *mesh_, *plan.dynamic[i], make, tracking_settings(build, sets.bounds));
       continue;
     }
-    Progress progress("csl light directions", static_cast<double>(static_directions[i].size()));
-    for (const Vec3& direction : static_directions[i]) {
+    Progress progress("csl light directions", static_cast<double>(plan.static_directions[i].size()));
+    for (const Vec3& direction : plan.static_directions[i]) {
       sets.sets.push_back(make(direction));
-      rays_traced_ += sets.sets.back().rays;
       progress.update(static_cast<double>(sets.sets.size()), sets.name);
     }
     progress.finish();
+  }
+  count_rays();
+}
+
+void CslMethod::count_rays() {
+  rays_traced_ = 0.0;
+  for (const ObjectSets& sets : objects_) {
+    for (const SpotLightSet& set : sets.sets) rays_traced_ += set.rays;
+    if (!sets.dynamic) continue;
+    for (const SpotLightSet& set : sets.dynamic->sets) rays_traced_ += set.rays;
   }
 }
 

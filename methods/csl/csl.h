@@ -28,6 +28,10 @@ class CslMethod : public CausticMethod {
   size_t memory_bytes() const override;
   Counters counters() const override;
   nlohmann::json record() const override;
+  // The build cache (methods/csl/csl_build.cpp): every object's static or dynamic sets.
+  std::optional<nlohmann::json> build_dependencies(const PrepareContext& context, const ParamSet& build) const override;
+  void save_build(const std::string& folder) const override;
+  void load_build(const PrepareContext& context, const ParamSet& build, const std::string& folder) override;
 
  private:
   struct ObjectSets {
@@ -52,6 +56,17 @@ class CslMethod : public CausticMethod {
     std::vector<LightView> lights;
   };
 
+  // What prepare() will build for each object: its static directions or its dynamic plan (the facets
+  // the frames need), and the object alone in its build space. Also makes `mesh` when a plan is dynamic.
+  struct Plan {
+    std::vector<ObjectSets> objects;  // named, bounded, kind and reason set; no sets yet
+    std::vector<Scene> alone;
+    std::vector<std::vector<Vec3>> static_directions;
+    std::vector<std::optional<csl::DynamicPlan>> dynamic;
+    std::vector<std::vector<uint32_t>> facets;  // per dynamic object, the facets it builds
+  };
+  static Plan make_plan(const PrepareContext& context, const ParamSet& build, std::unique_ptr<lpi::SphericalMesh>& mesh);
+  void count_rays();
   void update_dynamic(const ObjectSets& sets, const Vec3& direction, const ParamSet& frame_knobs, LightView& view) const;
 
   const Scene* scene_ = nullptr;

@@ -75,6 +75,27 @@ IntensityImage::IntensityImage(int size, int channels, float half_size, const st
   build_radial_table();
 }
 
+IntensityImage IntensityImage::from_stored(int size, int channels, float half_size, Precision precision,
+                                           std::vector<float> floats, std::vector<uint16_t> quantised,
+                                           std::vector<float> scales) {
+  const size_t texels = size > 0 ? static_cast<size_t>(size) * size * channels : 0;
+  const bool fits = size > 0 && (channels == 1 || channels == 3) && half_size > 0.0f &&
+                    (precision == Precision::float32 ? floats.size() == texels && quantised.empty() && scales.empty()
+                                                     : floats.empty() && quantised.size() == texels &&
+                                                           scales.size() == static_cast<size_t>(channels));
+  if (!fits) throw std::invalid_argument("IntensityImage: stored parts of the wrong size");
+  IntensityImage image;
+  image.size_ = size;
+  image.channels_ = channels;
+  image.half_size_ = half_size;
+  image.precision_ = precision;
+  image.floats_ = std::move(floats);
+  image.quantised_ = std::move(quantised);
+  image.scales_ = std::move(scales);
+  image.build_radial_table();
+  return image;
+}
+
 float IntensityImage::texel(int i, int j, int channel) const {
   const size_t index = (static_cast<size_t>(j) * size_ + i) * channels_ + channel;
   return precision_ == Precision::float32 ? floats_[index] : quantised_[index] * scales_[channel];

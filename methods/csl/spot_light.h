@@ -56,6 +56,10 @@ class IntensityImage {
   // `values`: size x size x channels floats, row-major, texel (i, j) centred at
   // (-half + (i + 0.5) w, -half + (j + 0.5) w), w = 2 half / size.
   IntensityImage(int size, int channels, float half_size, const std::vector<float>& values, Precision precision);
+  // An image from its stored form (quantised() and scales() for uint16, floats() for float32), exactly
+  // as it was: what the build cache reads back. std::invalid_argument when the parts do not fit.
+  static IntensityImage from_stored(int size, int channels, float half_size, Precision precision, std::vector<float> floats,
+                                    std::vector<uint16_t> quantised, std::vector<float> scales);
 
   int size() const { return size_; }
   int channels() const { return channels_; }
