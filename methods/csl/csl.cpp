@@ -160,12 +160,14 @@ void CslMethod::update_dynamic(const ObjectSets& sets, const Vec3& direction, co
 
 void CslMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
   frame_.assign(objects_.size(), ObjectFrame{});
+  tracer_ = &frame.tracer;
   interpolated_ = 0.0;
   for (size_t i = 0; i < objects_.size(); ++i) {
     const ObjectSets& sets = objects_[i];
     ObjectFrame& view = frame_[i];
     view.map = build_space_map(scene_->objects[sets.object], frame.frame.frame);
     view.length_scale = std::cbrt(std::fabs(glm::determinant(view.map.linear)));
+    view.to_world = glm::inverse(view.map.linear);
     for (const LightFrame& light : frame.frame.lights) {
       const ObjectLight seen = object_light(view.map, light, sets.bounds.center);
       if (!seen.valid) continue;
@@ -195,6 +197,7 @@ Image CslMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
   std::vector<double> evaluations(gbuffer.pixel_count() / 1024 + 1, 0.0);
   std::vector<EvaluationSettings> settings_of;  // per object (axis_epsilon is in its bounding radii)
   for (const ObjectSets& sets : objects_) settings_of.push_back(evaluation_settings(render, sets.bounds));
+  const bool shadow_rays = render.text("occlusion") == "shadow_rays";
   parallel_blocks(gbuffer.pixel_count(), 1024, [&](size_t begin, size_t end, size_t) {
     double count = 0.0;
     for (size_t i = 0; i < objects_.size(); ++i) {
@@ -208,9 +211,27 @@ Image CslMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
         // The disk of the pixel's footprint: the same area as its square.
         const float footprint = gbuffer.footprint[pixel] * view.length_scale / std::sqrt(kPi);
         Color total(0.0f);
+        // occlusion: shadow_rays: a ray's light reaches the point unless the path back towards its
+        // light plane point meets another object before the caustic object itself (or the plane).
+        const Vec3 world_point = gbuffer.position[pixel], world_normal = gbuffer.normal[pixel];
+        auto visible = [&](const glm::dvec3& travel, const glm::dvec3& from) {
+          const Vec3 from_world = view.to_world * (Vec3(from) - view.map.offset);
+          const Vec3 towards = glm::normalize(-(view.to_world * Vec3(travel)));
+          const float side = glm::dot(world_normal, towards) >= 0.0f ? 1.0f : -1.0f;
+          Ray ray;
+          ray.origin = world_point + (side * tracer_->epsilon()) * world_normal;
+          ray.direction = towards;
+          ray.t_max = glm::length(from_world - ray.origin);
+          SurfaceHit hit;
+          return !tracer_->intersect(ray, hit) || hit.object == objects_[i].object;
+        };
         auto add = [&](const auto& spot, const LightView& light) {
           float value[3] = {0.0f, 0.0f, 0.0f};
-          spot.evaluate(point, normal, footprint, settings, value);
+          if (shadow_rays) {
+            spot.evaluate(point, normal, footprint, settings, value, visible);
+          } else {
+            spot.evaluate(point, normal, footprint, settings, value);
+          }
           count += 1.0;
           const Color added = spot.image.channels() == 1 ? Color(value[0]) : Color(value[0], value[1], value[2]);
           total += added * light.irradiance;

@@ -52,6 +52,7 @@ class CslMethod : public CausticMethod {
   };
   struct ObjectFrame {
     BuildSpaceMap map;
+    glm::mat3 to_world{1.0f};   // build-space vectors to world ones (the inverse of map.linear)
     float length_scale = 1.0f;  // build-space length of a unit world length
     std::vector<LightView> lights;
   };
@@ -70,6 +71,7 @@ class CslMethod : public CausticMethod {
   void update_dynamic(const ObjectSets& sets, const Vec3& direction, const ParamSet& frame_knobs, LightView& view) const;
 
   const Scene* scene_ = nullptr;
+  const Tracer* tracer_ = nullptr;  // the frame's, from update(): the shadow rays' scene
   std::unique_ptr<lpi::SphericalMesh> mesh_;  // the light directions of the dynamic sets
   std::vector<ObjectSets> objects_;
   std::vector<ObjectFrame> frame_;

@@ -89,6 +89,11 @@ const MethodInfo& CslMethod::static_info() {
                           "points whose footprint reaches the axis: the flux through that disk over its area (integrate), "
                           "or moved out to axis_epsilon from it (the paper's epsilon)",
                           ParamPhase::render),
+        ParamSpec::choice("occlusion", "none", {"none", "shadow_rays"},
+                          "none (the paper); shadow_rays: each contributing ray's light is kept only when the path from "
+                          "the receiver back along it meets no other object before the caustic object (Embree, one ray "
+                          "per contributing spot light ray)",
+                          ParamPhase::render),
         ParamSpec::real("axis_epsilon", 1e-4, 1e-9, 1.0, "on_axis: epsilon: the distance, in bounding radii",
                         ParamPhase::render)
             .only_when("on_axis", {"epsilon"}),
@@ -111,7 +116,8 @@ const MethodInfo& CslMethod::static_info() {
                          "per frame (Section 4); only the facets the rendered frames need are built"},
         {"moving_objects", "the spot lights move and turn with their object; an object that turns under a fixed light "
                            "changes the light's direction in its frame, which the dynamic sets follow"},
-        {"occlusion", "the caustic light reaches receivers behind other objects (no shadow rays yet)"},
+        {"occlusion", "by default the caustic light reaches receivers behind other objects, as in the paper; the render "
+                      "knob occlusion: shadow_rays tests each contributing ray against the scene"},
         {"non_lambertian_receivers", "E_c is irradiance, whatever the receiver's BRDF; the spot lights know each ray's "
                                      "direction, so view-dependent shading could use it"},
     };

@@ -45,9 +45,10 @@ struct InterpolatedSpotLight {
   SpotGeometry geometry;
   BlendedImage image;
 
+  template <class Visible = AlwaysVisible>
   int evaluate(const Vec3& point, const Vec3& normal, float footprint_radius, const EvaluationSettings& settings,
-               float* out) const {
-    return evaluate_spot_light(geometry, image, point, normal, footprint_radius, settings, out);
+               float* out, const Visible& visible = {}) const {
+    return evaluate_spot_light(geometry, image, point, normal, footprint_radius, settings, out, visible);
   }
 };
 

@@ -15,6 +15,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 #include "core/math.h"
 
 namespace causticbench::csl {
@@ -143,10 +145,16 @@ class StoredImage {
 // Caustic irradiance at `point` on a surface with unit `normal` facing the side it is lit from, per
 // unit light irradiance, added to out[0..channels). `footprint_radius`: radius of the disk the
 // receiver point stands for (the pixel's footprint), used where that disk reaches the axis
-// (OnAxis::integrate). Returns the number of rays that contributed.
-template <class Image>
+// (OnAxis::integrate). `visible(direction, from)` says whether the ray that travels along unit
+// `direction` from the light plane point `from` (both build space) reaches the point unblocked
+// (`occlusion: shadow_rays`); AlwaysVisible where nothing is tested. Returns the number of rays
+// that contributed.
+struct AlwaysVisible {
+  bool operator()(const glm::dvec3&, const glm::dvec3&) const { return true; }
+};
+template <class Image, class Visible>
 int evaluate_spot_light(const SpotGeometry& light, const Image& image, const Vec3& point, const Vec3& normal,
-                        float footprint_radius, const EvaluationSettings& settings, float* out);
+                        float footprint_radius, const EvaluationSettings& settings, float* out, const Visible& visible);
 
 // One caustic spot light, in its object's build space.
 struct SpotLight : SpotGeometry {
@@ -155,9 +163,10 @@ struct SpotLight : SpotGeometry {
   // triple does not; Section 4.3).
   bool adds = true;
 
+  template <class Visible = AlwaysVisible>
   int evaluate(const Vec3& point, const Vec3& normal, float footprint_radius, const EvaluationSettings& settings,
-               float* out) const {
-    return evaluate_spot_light(*this, StoredImage(image), point, normal, footprint_radius, settings, out);
+               float* out, const Visible& visible = {}) const {
+    return evaluate_spot_light(*this, StoredImage(image), point, normal, footprint_radius, settings, out, visible);
   }
 };
 

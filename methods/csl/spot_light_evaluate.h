@@ -6,9 +6,9 @@
 
 namespace causticbench::csl {
 
-template <class Image>
+template <class Image, class Visible>
 int evaluate_spot_light(const SpotGeometry& light, const Image& image, const Vec3& point, const Vec3& normal,
-                        float footprint_radius, const EvaluationSettings& settings, float* out) {
+                        float footprint_radius, const EvaluationSettings& settings, float* out, const Visible& visible) {
   const Profile& profile = light.profile;
   const int channels = image.channels();
   const glm::dvec3 offset = glm::dvec3(point) - glm::dvec3(light.origin);
@@ -43,6 +43,7 @@ int evaluate_spot_light(const SpotGeometry& light, const Image& image, const Vec
       for (int c = 0; c < channels; ++c) flux[c] += outer[c] - inner[c];
     }
     const double cosine = std::max(0.0, -glm::dot(glm::dvec3(normal), a));
+    if (cosine > 0.0 && !visible(a, glm::dvec3(light.origin))) return 0;
     const double area = kPiDouble * disk * disk;
     for (int c = 0; c < channels; ++c) out[c] += static_cast<float>(flux[c] / area * cosine);
     return 1;
@@ -61,7 +62,7 @@ int evaluate_spot_light(const SpotGeometry& light, const Image& image, const Vec
     const glm::dvec3 direction = glm::normalize(a - profile.g(r) * from);
     // The image holds flux per unit light-plane area; a receiver facing n takes |n.e| / |a.e| of it.
     const double cosine = std::max(0.0, -glm::dot(glm::dvec3(normal), direction)) / glm::dot(a, direction);
-    if (cosine <= 0.0) continue;
+    if (cosine <= 0.0 || !visible(direction, glm::dvec3(light.origin) + from)) continue;
     for (int c = 0; c < channels; ++c) out[c] += static_cast<float>(value[c] * correction * cosine);
     ++contributing;
   }
