@@ -135,11 +135,23 @@ namespace {
 
 std::vector<uint32_t> assign(const std::vector<CausticRay>& rays, const std::vector<uint8_t>& active,
                              const BundleAxis& axis, const BundleSettings& settings) {
+  // line_distance(ray, axis) <= threshold without its square root and division: |offset . n|^2 <=
+  // threshold^2 |n|^2 with n = d x a (the same test; the parallel case, |n| tiny, as line_distance).
+  // This loop runs over every ray at every refinement step, and was a fifth of a set's build.
   std::vector<uint32_t> members;
+  const double threshold = settings.distance_threshold, threshold_squared = threshold * threshold;
   for (uint32_t i = 0; i < rays.size(); ++i) {
     if (!active[i]) continue;
-    if (glm::dot(glm::dvec3(rays[i].direction), axis.direction) < settings.cos_angle_threshold) continue;
-    if (line_distance(rays[i], axis) > settings.distance_threshold) continue;
+    const glm::dvec3 d(rays[i].direction);
+    if (glm::dot(d, axis.direction) < settings.cos_angle_threshold) continue;
+    const glm::dvec3 normal = glm::cross(d, axis.direction);
+    const double normal_squared = glm::dot(normal, normal);
+    if (normal_squared < 1e-18) {
+      if (line_distance(rays[i], axis) > threshold) continue;
+    } else {
+      const double along = glm::dot(glm::dvec3(rays[i].origin) - axis.origin, normal);
+      if (along * along > threshold_squared * normal_squared) continue;
+    }
     members.push_back(i);
   }
   return members;
@@ -173,11 +185,30 @@ Bundle refine_bundle(const std::vector<CausticRay>& rays, const std::vector<uint
                      const BundleSettings& settings) {
   Bundle bundle;
   bundle.axis = start;
+  // Converged when a step moves the axis by less than 1e-6 of the distance threshold and turns it by
+  // less than 1e-9 rad. A bundle of a complex object may have no such fixed point: on the bunny (256
+  // rays a side) most axes orbit to the 100-step cap, moving by 3 to 5 % of the threshold and turning
+  // by about 0.004 rad a step. Looser criteria were measured on the glass sphere of tests/test_csl.cpp
+  // (0.1 of the threshold and 0.01 rad: relMSE away from the focus 0.082 instead of 0.164, but energy
+  // 0.945 instead of 0.989) and are left for a sweep, not made the default.
   const double tolerance = 1e-6 * std::max(1e-9, settings.distance_threshold);
-  // Steps 3 to 5.
+  // Steps 3 to 5. The axis is a function of the members, so the same members as the step before is
+  // a fixed point (converged), and the members of two steps before a cycle that would repeat to the
+  // cap: both stop.
+  std::vector<uint32_t> previous, before_previous;
   for (bundle.iterations = 1; bundle.iterations <= settings.max_iterations; ++bundle.iterations) {
     bundle.members = assign(rays, active, bundle.axis, settings);
     if (bundle.members.empty()) return bundle;
+    if (bundle.members == previous) {
+      bundle.converged = true;
+      return bundle;
+    }
+    if (bundle.members == before_previous) {
+      bundle.axis = optimise_axis(rays, bundle.members);
+      return bundle;
+    }
+    before_previous = std::move(previous);
+    previous = bundle.members;
     const BundleAxis next = optimise_axis(rays, bundle.members);
     // The same line: directions agree and the new origin lies on the old line.
     const glm::dvec3 offset = next.origin - bundle.axis.origin;
