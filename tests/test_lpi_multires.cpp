@@ -351,3 +351,22 @@ TEST(LpiCompressedStorage, CachedBuildsAndThreadCountsRenderIdentically) {
   }
   std::filesystem::remove_all(cache);
 }
+
+// The light samples' weights are their shares of the sphere: the order-0 fit of a function that is no
+// polynomial (exp(4 z), tilted) is its area-weighted mean, which on 642 geodesic vertices lies within
+// 2e-5 (relative; measured 1.5e-6) of the exact mean sinh(4) / 4. The vertices are not evenly spaced:
+// equal weights miss it by 2.3e-4.
+TEST(LpiHarmonics, SampleWeightsAreTheirSharesOfTheSphere) {
+  const LightSampleSet set = geodesic_samples(3, SampleAt::vertices);
+  const Vec3 axis = glm::normalize(Vec3(0.3f, 0.5f, 0.8f));
+  std::vector<float> values;
+  for (const Vec3& d : set.directions) values.push_back(std::exp(4.0f * glm::dot(d, axis)));
+  const HarmonicFit fit(0, set.directions, light_sample_areas(set));
+  const double mean = fit.fit(values, 1)[0] * std::sqrt(1.0 / (4.0 * kPiDouble));
+  const double exact = std::sinh(4.0) / 4.0;
+  double equal = 0.0;
+  for (float value : values) equal += value;
+  equal /= static_cast<double>(values.size());
+  std::printf("mean of exp(4 z): area-weighted %.6f, equal weights %.6f, exact %.6f\n", mean, equal, exact);
+  EXPECT_NEAR(mean, exact, 2e-5 * exact);
+}
