@@ -10,17 +10,6 @@
 
 namespace causticbench::lpi {
 
-namespace {
-
-// Van Oosterom & Strackee: tan(E / 2) = |a . (b x c)| / (1 + a.b + b.c + c.a), in double.
-double spherical_triangle_area(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-  const double numerator = std::fabs(glm::dot(a, glm::cross(b, c)));
-  const double denominator = 1.0 + glm::dot(a, b) + glm::dot(b, c) + glm::dot(c, a);
-  return 2.0 * std::atan2(numerator, denominator);
-}
-
-}  // namespace
-
 std::vector<double> light_sample_areas(const LightSampleSet& set) {
   if (!set.mesh) throw std::invalid_argument("light_sample_areas: the set has no triangulation (not geodesic)");
   const std::vector<Vec3>& points = set.mesh->points();
@@ -28,7 +17,7 @@ std::vector<double> light_sample_areas(const LightSampleSet& set) {
   for (const auto& triangle : set.mesh->triangles()) {
     const glm::dvec3 a = glm::normalize(glm::dvec3(points[triangle[0]])), b = glm::normalize(glm::dvec3(points[triangle[1]])),
                      c = glm::normalize(glm::dvec3(points[triangle[2]]));
-    const double third = spherical_triangle_area(a, b, c) / 3.0;
+    const double third = solid_angle(a, b, c) / 3.0;
     for (uint32_t corner : triangle) areas[corner] += third;
   }
   return areas;
