@@ -442,4 +442,10 @@ size_t SphericalMesh::memory_bytes() const {
          (point_neighbour_begin_.capacity() + point_neighbours_.capacity() + candidates_.capacity()) * sizeof(uint32_t);
 }
 
+double solid_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+  const double numerator = std::fabs(glm::dot(a, glm::cross(b, c)));
+  const double denominator = 1.0 + glm::dot(a, b) + glm::dot(b, c) + glm::dot(c, a);
+  return 2.0 * std::atan2(numerator, denominator);
+}
+
 }  // namespace causticbench::lpi

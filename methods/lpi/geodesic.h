@@ -16,6 +16,9 @@
 
 namespace causticbench::lpi {
 
+// Solid angle of the spherical triangle (a, b, c), unit vectors (Van Oosterom & Strackee 1983).
+double solid_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
+
 // A triangulation of the unit sphere: unit points and triangles over them, counter-clockwise seen from
 // outside. Both factories give the convex hull of the points (every edge convex; for face centres up
 // to the float rounding of cocircular quads, where either diagonal would do; tested), so the mesh is

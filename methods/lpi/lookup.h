@@ -4,10 +4,13 @@
 // layout so that its stencil inlines.
 #pragma once
 
+#include <vector>
+
 #include "core/gbuffer.h"
 #include "core/image.h"
 #include "methods/lpi/grid_layout.h"
 #include "methods/lpi/light_samples.h"
+#include "methods/lpi/multires_layout.h"
 #include "methods/lpi/precompute.h"
 #include "methods/lpi/shell_layout.h"
 
@@ -18,6 +21,8 @@ namespace causticbench::lpi {
 struct LightView {
   LightReads reads;
   Color irradiance{0.0f};
+  // storage: sh: the basis at the light's direction, one weight per coefficient block (reads unused).
+  std::vector<float> harmonics;
 };
 
 enum class Outside { clamp, fade, zero };
@@ -29,6 +34,16 @@ struct ObjectView {
   size_t light_count;
   Outside outside;
 };
+
+// The receiver's share of values read at one point: the paper orientation's cosine, or the vector
+// irradiance dotted with the normal.
+inline void add_shading(const float* values, const Vec3& normal, bool vector, float paper_cosine, float* sums) {
+  if (!vector) {
+    for (int c = 0; c < 3; ++c) sums[c] += values[c] * paper_cosine;
+  } else {
+    for (int c = 0; c < 3; ++c) sums[c] += normal.x * values[3 * c] + normal.y * values[3 * c + 1] + normal.z * values[3 * c + 2];
+  }
+}
 
 // Adds one object's caustic to `result` for pixels [begin, end).
 template <class Layout>
@@ -55,6 +70,17 @@ void add_object_caustic(const Layout& layout, const ObjectView& view, const GBuf
     for (size_t l = 0; l < view.light_count; ++l) {
       const LightView& light = view.lights[l];
       float sums[3] = {0.0f, 0.0f, 0.0f};
+      if (!light.harmonics.empty()) {
+        // One stencil; each of its points sums its coefficients times the basis.
+        const Stencil stencil = layout.stencil(center + offset);
+        float values[9] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+        for (int s = 0; s < stencil.count; ++s) {
+          for (size_t k = 0; k < light.harmonics.size(); ++k) {
+            view.values.add(k, stencil.points[s], stencil.weights[s] * light.harmonics[k], values);
+          }
+        }
+        add_shading(values, normal, vector, paper_cosine, sums);
+      }
       for (int r = 0; r < light.reads.count; ++r) {
         const SampleRead& read = light.reads.reads[r];
         const Stencil stencil = layout.stencil(center + (read.rotated ? read.rotation * offset : offset));
@@ -62,15 +88,8 @@ void add_object_caustic(const Layout& layout, const ObjectView& view, const GBuf
         for (int s = 0; s < stencil.count; ++s) {
           view.values.add(read.sample, stencil.points[s], stencil.weights[s] * read.weight, values);
         }
-        if (!vector) {
-          for (int c = 0; c < 3; ++c) sums[c] += values[c] * paper_cosine;
-        } else {
-          // Vector irradiance read at R p is R E(p): dot it with R n.
-          const Vec3 turned = read.rotated ? read.rotation * normal : normal;
-          for (int c = 0; c < 3; ++c) {
-            sums[c] += turned.x * values[3 * c] + turned.y * values[3 * c + 1] + turned.z * values[3 * c + 2];
-          }
-        }
+        // Vector irradiance read at R p is R E(p): dot it with R n.
+        add_shading(values, read.rotated ? read.rotation * normal : normal, vector, paper_cosine, sums);
       }
       for (int c = 0; c < 3; ++c) total[c] += std::max(0.0f, sums[c]) * light.irradiance[c] * fade;
     }

@@ -6,6 +6,8 @@
 #include "core/parallel.h"
 #include "core/progress.h"
 #include "methods/lpi/lookup.h"
+#include "methods/lpi/multires_layout.h"
+#include "methods/lpi/spherical_harmonics.h"
 
 namespace causticbench {
 
@@ -17,18 +19,23 @@ const MethodInfo& LpiMethod::static_info() {
     m.name = "lpi";
     m.paper = "C. Wyman, C. Hansen, P. Shirley, \"Interactive Raytraced Caustics\", Univ. of Utah UUCS-03-009, 2003 "
               "(local precomputed irradiance)";
-    m.summary = "Precomputes each specular object's caustic irradiance in a volume around it (a grid or concentric "
-                "geodesic shells) for a set of light directions, by photon tracks through the object alone; per frame "
+    m.summary = "Precomputes each specular object's caustic irradiance in a volume around it (a grid, concentric "
+                "geodesic shells or an adaptive octree; or per cell spherical harmonics over light directions) for a "
+                "set of light directions, by photon tracks through the object alone; per frame "
                 "it turns the light into the object's frame and looks the caustic up, blending neighbouring light samples.";
-    const std::vector<std::string> grid = {"grid"}, shells = {"shells"};
+    const std::vector<std::string> grid_or_sh = {"grid", "sh"}, shells = {"shells"}, multires = {"multires"}, sh = {"sh"};
+    // sh fits over the whole sphere of light directions and reads no light sample by itself.
+    const std::vector<std::string> sampled = {"grid", "shells", "multires"};
     m.params = {
-        ParamSpec::choice("storage", "grid", {"grid", "shells"},
-                          "how the volume is sampled: a uniform grid of cells, or concentric shells sampled at geodesic "
-                          "vertices (Section 4.2)",
+        ParamSpec::choice("storage", "grid", {"grid", "shells", "multires", "sh"},
+                          "how the volume is sampled: a uniform grid of cells, concentric shells sampled at geodesic "
+                          "vertices (Section 4.2), an octree refined where the caustic varies, or per grid cell "
+                          "spherical harmonics over light directions (Section 4.3)",
                           ParamPhase::build),
-        ParamSpec::integer("grid_resolution", 64, 1, 512, "cells along each axis of the grid over the sampled ball",
+        ParamSpec::integer("grid_resolution", 64, 1, 512,
+                           "cells along each axis of the grid over the sampled ball (sh: each holds its coefficients)",
                            ParamPhase::build)
-            .only_when("storage", grid),
+            .only_when("storage", grid_or_sh),
         ParamSpec::integer("shell_count", 12, 1, 256, "concentric shells from the centre to volume_radius", ParamPhase::build)
             .only_when("storage", shells),
         ParamSpec::integer("shell_subdivision", 4, 0, 7,
@@ -38,6 +45,20 @@ const MethodInfo& LpiMethod::static_info() {
                           "radii of the shells: uniform, or quadratic (r_k = R ((k + 1) / K)^2, denser near the object)",
                           ParamPhase::build)
             .only_when("storage", shells),
+        ParamSpec::integer("multires_depth", 6, 0, 9,
+                           "levels of the multires octree below its root: the finest cells are those of a 2^depth grid",
+                           ParamPhase::build)
+            .only_when("storage", multires),
+        ParamSpec::real("error_threshold", 0.01, 0.0, 1.0,
+                        "a multires subtree becomes one leaf, its mean, when every finest cell in it lies within "
+                        "error_threshold x the light sample's largest value of that mean (every sample and channel)",
+                        ParamPhase::build)
+            .only_when("storage", multires),
+        ParamSpec::integer("sh_order", 4, 0, 9,
+                           "highest degree of the spherical harmonics over light directions, (order + 1)^2 coefficients "
+                           "a cell and channel (4: the paper's 5th order read as 5 bands, Fig. 9)",
+                           ParamPhase::build)
+            .only_when("storage", sh),
         ParamSpec::choice("precision", "float32", {"uint8", "float16", "float32"},
                           "stored value type; uint8 scales each light sample's values to 0..255 (the paper stored 3 bytes a colour)",
                           ParamPhase::build),
@@ -53,7 +74,8 @@ const MethodInfo& LpiMethod::static_info() {
         ParamSpec::choice("light_samples", "auto", {"auto", "all"},
                           "auto: when no light's direction in an object's frame changes over the rendered frames, just "
                           "those directions; otherwise (and with all) the geodesic set",
-                          ParamPhase::build),
+                          ParamPhase::build)
+            .only_when("storage", sampled),
         ParamSpec::integer("light_subdivision", 2, 0, 6,
                            "subdivisions of the icosahedron of light directions (2: 162 vertices, as for the bunny)",
                            ParamPhase::build),
@@ -62,11 +84,13 @@ const MethodInfo& LpiMethod::static_info() {
         ParamSpec::choice("symmetry", "none", {"none", "axial", "spherical"},
                           "axial: samples on one meridian of the object's local y axis, the lookup turns the light about "
                           "it; spherical: one sample, every direction turned onto it",
-                          ParamPhase::build),
+                          ParamPhase::build)
+            .only_when("storage", sampled),
         ParamSpec::choice("blend", "barycentric", {"nearest", "barycentric", "aligned"},
                           "nearest light sample (pops), barycentric blend of three (ghosts), or aligned: each of the "
                           "three read at the point turned by the angle between it and the light (Section 5.2)",
-                          ParamPhase::frame),
+                          ParamPhase::frame)
+            .only_when("storage", sampled),
         ParamSpec::choice("outside", "clamp", {"clamp", "fade", "zero"},
                           "beyond the sampled ball: the value on its surface (clamp), that times (R / d)^2 (fade), or none",
                           ParamPhase::render),
@@ -100,10 +124,20 @@ const MethodInfo& LpiMethod::static_info() {
 
 VolumeSettings lpi::volume_settings(const ParamSet& build) {
   VolumeSettings settings;
-  settings.storage = build.text("storage") == "grid" ? StorageKind::grid : StorageKind::shells;
-  if (settings.storage == StorageKind::grid) {
+  const std::string storage = build.text("storage");
+  settings.storage = storage == "grid"       ? StorageKind::grid
+                     : storage == "shells"   ? StorageKind::shells
+                     : storage == "multires" ? StorageKind::multires
+                                             : StorageKind::sh;
+  if (settings.storage == StorageKind::grid || settings.storage == StorageKind::sh) {
     settings.grid_resolution = static_cast<int>(build.integer("grid_resolution"));
-  } else {
+  }
+  if (settings.storage == StorageKind::sh) settings.sh_order = static_cast<int>(build.integer("sh_order"));
+  if (settings.storage == StorageKind::multires) {
+    settings.multires_depth = static_cast<int>(build.integer("multires_depth"));
+    settings.error_threshold = build.real("error_threshold");
+  }
+  if (settings.storage == StorageKind::shells) {
     settings.shell_count = static_cast<int>(build.integer("shell_count"));
     settings.shell_subdivision = static_cast<int>(build.integer("shell_subdivision"));
     settings.shell_spacing = build.text("shell_spacing") == "uniform" ? 0 : 1;
@@ -146,7 +180,8 @@ void LpiMethod::prepare(const PrepareContext& context, const ParamSet& build) {
 }
 
 void LpiMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
-  const std::string blend_name = frame_knobs.text("blend");
+  const bool harmonic = settings_.storage == StorageKind::sh;
+  const std::string blend_name = harmonic ? "" : frame_knobs.text("blend");
   const Blend blend = blend_name == "nearest" ? Blend::nearest : blend_name == "barycentric" ? Blend::barycentric : Blend::aligned;
   frame_.assign(objects_.size(), ObjectFrame{});
   for (size_t i = 0; i < objects_.size(); ++i) {
@@ -159,7 +194,13 @@ void LpiMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
       lpi::LightView light_view;
       light_view.irradiance = seen.irradiance;
       const Vec3 direction = seen.direction;
-      light_view.reads = light_reads(object.samples, direction, blend);
+      if (harmonic) {
+        // The coefficients' weights: the basis at the light's direction.
+        light_view.harmonics.resize(object.values.light_samples());
+        evaluate(settings_.sh_order + 1, direction, light_view.harmonics.data());
+      } else {
+        light_view.reads = light_reads(object.samples, direction, blend);
+      }
       view.lights.push_back(light_view);
     }
   }
@@ -176,6 +217,8 @@ Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
       // The concrete layout, so that its stencil inlines into the per-pixel loop.
       if (const auto* grid = dynamic_cast<const GridLayout*>(object.layout.get())) {
         add_object_caustic(*grid, view, gbuffer, begin, end, result);
+      } else if (const auto* tree = dynamic_cast<const MultiresLayout*>(object.layout.get())) {
+        add_object_caustic(*tree, view, gbuffer, begin, end, result);
       } else {
         add_object_caustic(static_cast<const ShellLayout&>(*object.layout), view, gbuffer, begin, end, result);
       }
@@ -187,7 +230,7 @@ Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
 size_t LpiMethod::memory_bytes() const {
   size_t bytes = 0;
   for (const ObjectVolumes& object : objects_) {
-    bytes += object.values.memory_bytes() + object.layout->memory_bytes();
+    bytes += object.values.memory_bytes() + object.layout->memory_bytes() + object.layout->index_bytes();
     if (object.samples.mesh) bytes += object.samples.mesh->memory_bytes();
   }
   return bytes;
@@ -199,7 +242,7 @@ Counters LpiMethod::counters() const {
     samples += static_cast<double>(object.samples.directions.size());
     photons += static_cast<double>(object.stats.emitted);
     seconds += object.shoot_seconds;
-    bytes_per_sample += static_cast<double>(object.values.bytes_per_light_sample());
+    bytes_per_sample += lpi::bytes_per_light_sample(object);
   }
   return {{"light_samples", samples},
           {"photons_emitted", photons},
@@ -210,14 +253,22 @@ Counters LpiMethod::counters() const {
 nlohmann::json LpiMethod::record() const {
   nlohmann::json objects = nlohmann::json::array();
   for (const ObjectVolumes& object : objects_) {
-    objects.push_back({{"object", object.name},
-                       {"light_sample_set", object.samples.kind},
-                       {"why", object.samples.reason},
-                       {"light_samples", object.samples.directions.size()},
-                       {"sample_points", object.layout->points()},
-                       {"bytes_per_light_sample", object.values.bytes_per_light_sample()},
-                       {"volume_radius", object.layout->radius()},
-                       {"shoot_seconds", object.shoot_seconds}});
+    nlohmann::json entry = {{"object", object.name},
+                            {"light_sample_set", object.samples.kind},
+                            {"why", object.samples.reason},
+                            {"light_samples", object.samples.directions.size()},
+                            {"sample_points", object.layout->points()},
+                            {"bytes_per_light_sample", lpi::bytes_per_light_sample(object)},
+                            {"memory_bytes", object.values.memory_bytes() + object.layout->memory_bytes() +
+                                                 object.layout->index_bytes()},
+                            {"volume_radius", object.layout->radius()},
+                            {"shoot_seconds", object.shoot_seconds}};
+    if (const auto* tree = dynamic_cast<const MultiresLayout*>(object.layout.get())) {
+      entry["tree_nodes"] = tree->nodes();
+      entry["finest_cells"] = tree->deposit_points();
+    }
+    if (object.harmonic) entry["coefficients"] = object.values.light_samples();
+    objects.push_back(std::move(entry));
   }
   return {{"objects", objects}};
 }

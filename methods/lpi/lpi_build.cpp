@@ -6,7 +6,9 @@
 
 #include <fmt/format.h>
 
+#include "core/errors.h"
 #include "core/scene_description.h"
+#include "methods/lpi/spherical_harmonics.h"
 #include "methods/lpi/lpi.h"
 
 namespace causticbench {
@@ -19,9 +21,19 @@ namespace {
 // gets its one direction; otherwise the set the knobs describe.
 LightSampleSet choose_samples(const Scene& scene, int object, const BoundingSphere& bounds, const std::vector<int>& frames,
                               const ParamSet& build) {
+  const int level = static_cast<int>(build.integer("light_subdivision"));
+  const bool at_vertices = build.text("light_sample_at") == "vertices";
+  if (build.text("storage") == "sh") {
+    // A fit over the sphere of light directions needs samples over all of it, even for a light that
+    // never moves (light_samples and symmetry do not apply to sh).
+    LightSampleSet set = geodesic_samples(level, at_vertices ? SampleAt::vertices : SampleAt::faces);
+    set.reason = fmt::format("storage: sh fits spherical harmonics over the whole sphere of light directions: the "
+                             "geodesic set, subdivision {} at its {}, {} samples",
+                             level, build.text("light_sample_at"), set.directions.size());
+    return set;
+  }
   const std::vector<std::vector<Vec3>> directions = object_light_directions(scene, object, bounds.center, frames);
   const std::string symmetry = build.text("symmetry");
-  const int level = static_cast<int>(build.integer("light_subdivision"));
   if (symmetry == "spherical") {
     LightSampleSet set;
     set.kind = "spherical";
@@ -54,7 +66,7 @@ LightSampleSet choose_samples(const Scene& scene, int object, const BoundingSphe
                              set.directions.size());
     return set;
   }
-  LightSampleSet set = geodesic_samples(level, build.text("light_sample_at") == "vertices" ? SampleAt::vertices : SampleAt::faces);
+  LightSampleSet set = geodesic_samples(level, at_vertices ? SampleAt::vertices : SampleAt::faces);
   set.reason = fmt::format("{}: the geodesic set, subdivision {} at its {}, {} samples", why, level,
                            build.text("light_sample_at"), set.directions.size());
   return set;
@@ -83,6 +95,13 @@ void LpiMethod::plan(const PrepareContext& context, const ParamSet& build) {
     const SceneFrame frame(alone, 0.0);
     volumes.bounds = frame.bounds[0];
     volumes.samples = choose_samples(context.scene, object, volumes.bounds, context.frames, build);
+    if (settings_.storage == StorageKind::sh &&
+        volumes.samples.directions.size() < static_cast<size_t>(coefficient_count(settings_.sh_order + 1))) {
+      throw InputError(fmt::format("lpi: sh_order {} has {} coefficients a cell, more than the {} light samples of "
+                                   "light_subdivision {} can determine; raise light_subdivision or lower sh_order",
+                                   settings_.sh_order, coefficient_count(settings_.sh_order + 1),
+                                   volumes.samples.directions.size(), build.integer("light_subdivision")));
+    }
     volumes.layout = make_layout(settings_, volumes.bounds);
     objects_.push_back(std::move(volumes));
   }
@@ -122,6 +141,13 @@ void LpiMethod::save_build(const std::string& folder) const {
                  static_cast<std::streamsize>(object.values.bytes().size()));
     stream.write(reinterpret_cast<const char*>(object.values.scales().data()),
                  static_cast<std::streamsize>(object.values.scales().size() * sizeof(float)));
+    // An adaptive layout's structure (the multires tree) after the values: its words' count, then them.
+    const std::vector<uint32_t> structure = object.layout->structure();
+    if (object.layout->adaptive()) {
+      const uint64_t words = structure.size();
+      stream.write(reinterpret_cast<const char*>(&words), sizeof(words));
+      stream.write(reinterpret_cast<const char*>(structure.data()), static_cast<std::streamsize>(words * sizeof(uint32_t)));
+    }
     if (!stream) throw std::runtime_error(folder + "/" + name + ": write failed");
     meta.push_back({{"file", name},
                     {"object", object.name},
@@ -151,19 +177,33 @@ void LpiMethod::load_build(const PrepareContext& context, const ParamSet& build,
     uint64_t header[3] = {};
     stream.read(reinterpret_cast<char*>(header), sizeof(header));
     const size_t channels = static_cast<size_t>(channel_count(settings_.orientation));
-    const size_t expected_bytes = object.samples.directions.size() * object.layout->points() * channels *
-                                  precision_bytes(settings_.precision);
-    if (!stream || format != std::string(kValuesFormat, format.size()) || header[0] != expected_bytes ||
-        header[1] != object.samples.directions.size() || header[2] != object.layout->points()) {
+    const size_t blocks = stored_blocks(settings_, object);
+    const bool adaptive = object.layout->adaptive();
+    // An adaptive layout's point count comes with its structure, after the values.
+    const bool points_match = adaptive || header[2] == object.layout->points();
+    if (!stream || format != std::string(kValuesFormat, format.size()) || !points_match || header[1] != blocks ||
+        header[0] != blocks * header[2] * channels * precision_bytes(settings_.precision)) {
       throw std::runtime_error(path + ": not the values of this build");
     }
     std::vector<uint8_t> bytes(header[0]);
     std::vector<float> scales(header[1]);
     stream.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     stream.read(reinterpret_cast<char*>(scales.data()), static_cast<std::streamsize>(scales.size() * sizeof(float)));
+    if (adaptive) {
+      uint64_t words = 0;
+      stream.read(reinterpret_cast<char*>(&words), sizeof(words));
+      if (!stream || words > (uint64_t{1} << 31)) throw std::runtime_error(path + ": truncated");
+      std::vector<uint32_t> structure(words);
+      stream.read(reinterpret_cast<char*>(structure.data()), static_cast<std::streamsize>(words * sizeof(uint32_t)));
+      if (!stream) throw std::runtime_error(path + ": truncated");
+      object.layout->restore(std::move(structure));
+      if (object.layout->points() != header[2]) throw std::runtime_error(path + ": not the values of this build");
+    }
     if (!stream) throw std::runtime_error(path + ": truncated");
+    object.harmonic = settings_.storage == StorageKind::sh;
     object.values = StoredValues::from_raw(settings_.precision, static_cast<int>(channels),
-                                           settings_.orientation == Orientation::vector, object.layout->points(),
+                                           settings_.orientation == Orientation::vector || object.harmonic,
+                                           object.layout->points(),
                                            std::move(bytes), std::move(scales));
     object.shoot_seconds = meta[i].value("shoot_seconds", 0.0);
     object.stats = PhotonStats{meta[i].value("emitted", uint64_t{0}), meta[i].value("deposited", uint64_t{0}),

@@ -22,7 +22,7 @@
 
 namespace causticbench::lpi {
 
-enum class StorageKind { grid, shells };
+enum class StorageKind { grid, shells, multires, sh };
 
 struct VolumeSettings {
   StorageKind storage = StorageKind::grid;
@@ -30,6 +30,9 @@ struct VolumeSettings {
   int shell_count = 12;
   int shell_subdivision = 4;
   int shell_spacing = 0;            // ShellSpacing
+  int multires_depth = 6;           // finest level: 2^depth cells a side
+  double error_threshold = 0.01;    // relative to each light sample's largest value
+  int sh_order = 4;                 // highest degree of the spherical harmonics
   double volume_radius = 3.0;       // in bounding radii
   Orientation orientation = Orientation::paper;
   Precision precision = Precision::float32;
@@ -44,16 +47,25 @@ struct ObjectVolumes {
   BoundingSphere bounds;  // of the object, build space
   LightSampleSet samples;
   std::unique_ptr<VolumeLayout> layout;
+  // Light-sample blocks, or for storage: sh one block per spherical-harmonic coefficient.
   StoredValues values;
+  bool harmonic = false;  // values are spherical-harmonic coefficient blocks
   PhotonStats stats;
   double shoot_seconds = 0.0;  // photon shooting and deposition, all light samples
 };
 
 std::unique_ptr<VolumeLayout> make_layout(const VolumeSettings& settings, const BoundingSphere& bounds);
 
+// Blocks of stored values: one per light sample, or per coefficient for storage: sh.
+size_t stored_blocks(const VolumeSettings& settings, const ObjectVolumes& volumes);
+// Stored bytes per light sample: its block and its share of the table that indexes the values (the
+// multires tree); for storage: sh, every coefficient's bytes shared among the light samples fitted.
+double bytes_per_light_sample(const ObjectVolumes& volumes);
+
 // Computes volumes.values for every direction of volumes.samples: photons_per_sample photons per
 // light sample, photon i of sample s drawing only from Random(seed, s 2^32 + i) and summed in fixed
-// chunks, so that the result does not depend on the thread count. `report(done, total)` after each
+// chunks, so that the result does not depend on the thread count. An adaptive layout then adapts to
+// every sample's values; storage: sh fits its coefficients to them. `report(done, total)` after each
 // light sample.
 void shoot_light_samples(const Scene& build_scene, const VolumeSettings& settings, ObjectVolumes& volumes,
                          const std::function<void(size_t, size_t)>& report);

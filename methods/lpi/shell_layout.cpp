@@ -10,13 +10,6 @@ namespace causticbench::lpi {
 
 namespace {
 
-// Solid angle of the spherical triangle (a, b, c), unit vectors (Van Oosterom & Strackee 1983).
-double solid_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-  const double numerator = std::fabs(glm::dot(a, glm::cross(b, c)));
-  const double denominator = 1.0 + glm::dot(a, b) + glm::dot(b, c) + glm::dot(c, a);
-  return 2.0 * std::atan2(numerator, denominator);
-}
-
 // integral over [r0, r1] of (a + b r) r^2 dr: Simpson's rule, exact for this cubic.
 double cubic_integral(double r0, double r1, double value0, double value1) {
   auto f = [&](double r) {

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/math.h"
 #include "core/photon_tracer.h"
@@ -53,6 +54,18 @@ class VolumeLayout {
   virtual Stencil stencil(const Vec3& position) const = 0;
   // Bytes of the layout's own tables (not the values).
   virtual size_t memory_bytes() const = 0;
+
+  // A layout that adapts to the values (multires) takes the deposits on other points than it keeps:
+  // deposit() and normalise() work on deposit_points(), and adapt() turns every light sample's
+  // values over them (blocks of deposit_points() x channels) into values over points().
+  virtual size_t deposit_points() const { return points(); }
+  virtual bool adaptive() const { return false; }
+  virtual std::vector<float> adapt(const std::vector<float>& deposited, int channels) { return deposited; }
+  // What adapt() decided, for the build cache, and bytes of the table the values cannot be read
+  // without (counted with each light sample's values, which it indexes).
+  virtual std::vector<uint32_t> structure() const { return {}; }
+  virtual void restore(std::vector<uint32_t> structure) { (void)structure; }
+  virtual size_t index_bytes() const { return 0; }
 
  protected:
   VolumeLayout(Vec3 center, float radius) : center_(center), radius_(radius) {}
