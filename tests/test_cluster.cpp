@@ -1,0 +1,326 @@
+// Sweeps on a cluster without the cluster (the Slurm end-to-end test is test_slurm.cpp): the store's
+// lock files and their stale-lock recovery, the cost-balanced shard plan, the reference job
+// (`run --prepare-only`), a shard killed midway and resubmitted, and `causticbench status`.
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <thread>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "core/errors.h"
+#include "core/files.h"
+#include "experiments/experiment.h"
+#include "experiments/run_measurement.h"
+#include "experiments/shard_plan.h"
+#include "experiments/store_lock.h"
+#include "experiments/sweep_status.h"
+#include "tests/reliability/store_harness.h"
+#include "tests/test_support.h"
+
+using namespace causticbench;
+using namespace causticbench::store_harness;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Locks of other hosts go stale after 2 s without a heartbeat here (120 s by default), for this process
+// and the causticbench processes it starts; set before any lock is taken, so the heartbeat follows it.
+const bool kStaleAfterTwoSeconds = (::setenv("CAUSTICBENCH_LOCK_STALE_SECONDS", "2", 1), true);
+
+// Three groups sharing one prepare() each (photons is a build knob of photon_map), two runs per group.
+const char* const kSweep = R"(name: sweep
+scene: scene.yaml
+reference: {photons_per_pass: 20000, max_passes: 2, target_noise_floor: 0}
+repetitions: 1
+methods:
+  - method: photon_map
+    render: {max_radius: 0.3}
+    sweep:
+      photons: [1000, 2000, 3000]
+      k: [10, 20]
+)";
+
+class SweepFolder : public causticbench::testing::TemporaryFolder {
+ public:
+  explicit SweepFolder(const std::string& name, const std::string& experiment = kSweep)
+      : TemporaryFolder("cluster_" + name) {
+    write("scene.yaml", causticbench::testing::replace_once(causticbench::testing::kSmallGlassSphere,
+                                                            "resolution: [40, 40]", "resolution: [24, 24]"));
+    file = write("sweep.yaml", experiment);
+    results = path("results");
+  }
+  Experiment experiment() const { return load_experiment(file); }
+  Finished run(const std::vector<std::string>& extra) {
+    std::vector<std::string> arguments = {"run", file, "--results", results, "--no-report"};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    return run_process(arguments, path("output_" + std::to_string(outputs_++) + ".txt"));
+  }
+  Finished command(const std::vector<std::string>& arguments) {
+    return run_process(arguments, path("output_" + std::to_string(outputs_++) + ".txt"));
+  }
+  std::string file, results;
+
+ private:
+  int outputs_ = 0;
+};
+
+std::set<std::string> stored_keys(const std::string& runs_folder) {
+  std::set<std::string> keys;
+  if (!fs::is_directory(runs_folder)) return keys;
+  for (const auto& entry : fs::directory_iterator(runs_folder)) {
+    if (run_is_stored(entry.path().string())) keys.insert(entry.path().filename().string());
+  }
+  return keys;
+}
+
+std::string line_of(const std::string& path) {
+  std::ifstream stream(path);
+  std::string line;
+  std::getline(stream, line);
+  return line;
+}
+
+// A pid that no process has: a child that already ended and was reaped.
+pid_t ended_pid() {
+  pid_t child = fork();
+  if (child == 0) _exit(0);
+  waitpid(child, nullptr, 0);
+  return child;
+}
+
+}  // namespace
+
+// A lock file is created with its holder line and removed on release; a second taker is refused while
+// it is held.
+TEST(StoreLockFiles, HeldByALiveProcessAndRemovedOnRelease) {
+  causticbench::testing::TemporaryFolder folder("cluster_lock_live");
+  const std::string path = folder.path("locks/a.lock");
+  {
+    std::optional<StoreLock> lock = StoreLock::try_acquire(path);
+    ASSERT_TRUE(lock);
+    EXPECT_EQ(line_of(path).rfind(fmt::format("pid {} on {} started ", getpid(), host_name()), 0), 0u) << line_of(path);
+    EXPECT_FALSE(StoreLock::try_acquire(path)) << "a lock of a live process on this host is never stale";
+  }
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_TRUE(StoreLock::try_acquire(path));
+}
+
+// A job killed on this host leaves its lock file: its pid is gone, so the lock is taken at once.
+TEST(StoreLockFiles, LockOfADeadProcessOnThisHostIsRecoveredAtOnce) {
+  causticbench::testing::TemporaryFolder folder("cluster_lock_dead");
+  const std::string path = folder.path("a.lock");
+  folder.write("a.lock", fmt::format("pid {} on {} started 1 token 00\n", ended_pid(), host_name()));
+  EXPECT_TRUE(StoreLock::try_acquire(path));
+}
+
+// A job killed on another host: its pid cannot be checked from here, so its lock is stale once its
+// heartbeat stopped for the stale time (2 s here), and only then.
+TEST(StoreLockFiles, StaleLockOfAnotherHostIsRecoveredAfterItsHeartbeatStops) {
+  causticbench::testing::TemporaryFolder folder("cluster_lock_other_host");
+  const std::string path = folder.path("a.lock");
+  folder.write("a.lock", "pid 4242 on node-that-died started 99 token 01\n");
+  EXPECT_FALSE(StoreLock::try_acquire(path)) << "a fresh lock of another host is held";
+  std::this_thread::sleep_for(std::chrono::milliseconds(2600));
+  std::optional<StoreLock> lock = StoreLock::try_acquire(path);
+  ASSERT_TRUE(lock);
+  EXPECT_EQ(line_of(path).rfind(fmt::format("pid {} on {}", getpid(), host_name()), 0), 0u);
+}
+
+// A holder keeps its lock alive for other hosts: the heartbeat refreshes the file's modification time.
+TEST(StoreLockFiles, HeldLockIsRefreshedByTheHeartbeat) {
+  causticbench::testing::TemporaryFolder folder("cluster_lock_heartbeat");
+  const std::string path = folder.path("a.lock");
+  std::optional<StoreLock> lock = StoreLock::try_acquire(path);
+  ASSERT_TRUE(lock);
+  struct stat before {}, after {};
+  ASSERT_EQ(::stat(path.c_str(), &before), 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));  // heartbeat every 2/8 s
+  ASSERT_EQ(::stat(path.c_str(), &after), 0);
+  EXPECT_GT(after.st_mtim.tv_sec * 1000000000LL + after.st_mtim.tv_nsec,
+            before.st_mtim.tv_sec * 1000000000LL + before.st_mtim.tv_nsec + 300000000LL);
+}
+
+// Runs sharing one prepare() stay in one shard; every run is in exactly one shard; groups of unequal
+// cost are dealt so that no shard exceeds the least loaded one by more than the largest group.
+TEST(ShardPlans, GroupsStayTogetherAndShardsAreBalanced) {
+  SweepFolder folder("plan", causticbench::testing::replace_once(
+                                 kSweep, "repetitions: 1", "repetitions: 1\nvariants:\n  - {name: small}\n"
+                                                           "  - {name: large, resolution: [72, 72]}"));
+  Experiment experiment = folder.experiment();
+  ASSERT_EQ(experiment.runs.size(), 12u);
+  ShardPlan plan = plan_shards(experiment, 3, nullptr);
+  std::map<std::string, std::set<int>> shards_of_group;
+  std::vector<size_t> runs_per_shard(3, 0);
+  for (const RunSpec& run : experiment.runs) {
+    int shard = plan.shard_of.at(run.key);
+    ASSERT_GE(shard, 0);
+    ASSERT_LT(shard, 3);
+    ++runs_per_shard[static_cast<size_t>(shard)];
+    shards_of_group[std::to_string(run.variant) + run.build.to_json().dump()].insert(shard);
+  }
+  EXPECT_EQ(shards_of_group.size(), 6u);
+  for (const auto& [group, shards] : shards_of_group) EXPECT_EQ(shards.size(), 1u) << "group " << group << " split";
+  // The large variant's groups cost 9 times the small ones': the three large groups go to three shards.
+  auto [least, most] = std::minmax_element(plan.shard_seconds.begin(), plan.shard_seconds.end());
+  EXPECT_LE(*most - *least, 2.0 * 72 * 72 * 2 + 1e-6);
+  EXPECT_GT(*least, 0.0);
+  // The same experiment plans the same partition, whenever and wherever it is planned.
+  EXPECT_EQ(plan_shards(experiment, 3, nullptr).shard_of, plan.shard_of);
+}
+
+// A plan whose runs are not the experiment's (the experiment changed since) is refused with what to do.
+TEST(ShardPlans, PlanOfAnotherSweepIsRefused) {
+  SweepFolder folder("plan_changed");
+  Experiment experiment = folder.experiment();
+  ResultPaths paths{folder.results};
+  write_shard_plan(folder.path("plan.json"), plan_shards(experiment, 2, &paths));
+  EXPECT_EQ(read_shard_plan(folder.path("plan.json"), &experiment).shard_of.size(), 6u);
+  Experiment changed = load_experiment(
+      folder.write("changed.yaml", causticbench::testing::replace_once(kSweep, "k: [10, 20]", "k: [10, 30]")));
+  std::string message = causticbench::testing::input_error_message([&] { read_shard_plan(folder.path("plan.json"), &changed); });
+  EXPECT_NE(message.find("plan it again"), std::string::npos) << message;
+  Finished finished = folder.run({"--shard", "0/3", "--shard-plan", folder.path("plan.json")});
+  EXPECT_EQ(finished.code, 2) << finished.output;
+  EXPECT_NE(finished.output.find("expected n = 2"), std::string::npos) << finished.output;
+}
+
+// The reference job computes the reference and every build and runs nothing; the shards then load the
+// builds (none computes one) and, together, store exactly the experiment's runs.
+TEST(ShardPlans, PrepareOnlyThenShardsByPlanStoreEveryRunOnce) {
+  SweepFolder folder("prepare_then_shards");
+  Experiment experiment = folder.experiment();
+  Finished prepared = folder.run({"--prepare-only"});
+  ASSERT_EQ(prepared.code, 0) << prepared.output;
+  EXPECT_NE(prepared.output.find("3 builds computed"), std::string::npos) << prepared.output;
+  EXPECT_TRUE(stored_keys(folder.results + "/sweep/runs").empty());
+  ASSERT_TRUE(stored_reference_checksums(ResultPaths{folder.results}, experiment.variants[0].reference_key, experiment.frames));
+  Finished slurm = folder.command({"slurm", folder.file, "--results", folder.results, "--shards", "3"});
+  ASSERT_EQ(slurm.code, 0) << slurm.output;
+  const std::string plan = folder.results + "/sweep/slurm/shard-plan.json";
+  std::set<std::string> all;
+  for (int shard = 0; shard < 3; ++shard) {
+    Finished finished = folder.run({"--shard", fmt::format("{}/3", shard), "--shard-plan", plan});
+    ASSERT_EQ(finished.code, 0) << finished.output;
+    EXPECT_EQ(finished.output.find("computing"), std::string::npos) << "the reference is stored\n" << finished.output;
+    EXPECT_EQ(finished.output.find(": computed"), std::string::npos) << "every build is stored\n" << finished.output;
+    EXPECT_NE(finished.output.find("2 selected, 0 already stored, 2 run now"), std::string::npos) << finished.output;
+  }
+  std::set<std::string> expected;
+  for (const RunSpec& run : experiment.runs) expected.insert(run.key);
+  EXPECT_EQ(stored_keys(folder.results + "/sweep/runs"), expected);
+  for (const char* script : {"prepare.sbatch", "shards.sbatch", "report.sbatch", "submit.sh"}) {
+    EXPECT_TRUE(fs::exists(folder.results + "/sweep/slurm/" + script)) << script;
+  }
+}
+
+// A shard killed midway (SIGKILL, as Slurm ends a job past its time) and resubmitted finishes its shard:
+// the runs stored before the kill are kept as they were, the rest are stored once, and a lock left on
+// one of its runs by a job killed on another host is recovered once its heartbeat is stale.
+TEST(ShardPlans, KilledShardResubmittedFinishesWithNothingLostOrDuplicated) {
+  // Heavy enough runs (200k photons, 3 passes each) that the kill lands mid-shard; one shard of one.
+  SweepFolder folder("killed_shard", causticbench::testing::replace_once(
+                                         causticbench::testing::replace_once(kSweep, "[1000, 2000, 3000]", "[200000, 210000]"),
+                                         "k: [10, 20]", "k: [10, 20, 30, 40]"));
+  Experiment experiment = folder.experiment();
+  ASSERT_EQ(folder.command({"slurm", folder.file, "--results", folder.results, "--shards", "2"}).code, 0);
+  const std::string plan_path = folder.results + "/sweep/slurm/shard-plan.json";
+  ShardPlan plan = read_shard_plan(plan_path, &experiment);
+  std::set<std::string> shard_keys;
+  for (const PlannedRun& run : plan.runs)
+    if (run.shard == 1) shard_keys.insert(run.key);
+  ASSERT_EQ(shard_keys.size(), 4u);
+  ASSERT_EQ(folder.run({"--prepare-only"}).code, 0);
+
+  const std::string runs = folder.results + "/sweep/runs";
+  {
+    Process shard({"run", folder.file, "--results", folder.results, "--no-report", "--shard", "1/2", "--shard-plan",
+                   plan_path},
+                  folder.path("killed.txt"));
+    auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (stored_keys(runs).empty() && shard.running() && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    shard.kill_with(SIGKILL);
+    shard.wait();
+  }
+  std::set<std::string> before = stored_keys(runs);
+  ASSERT_GE(before.size(), 1u);
+  ASSERT_LT(before.size(), 4u) << "the kill came after the shard's last run; make the runs heavier";
+  std::map<std::string, std::string> records_before;
+  for (const std::string& key : before) records_before[key] = inspect_stored_run(runs + "/" + key).record_hash;
+  // A lock a job on another host left on a run still to do; its locks of this host's killed job remain too.
+  std::string pending_key;
+  for (const std::string& key : shard_keys)
+    if (!before.count(key)) pending_key = key;
+  const std::string foreign_lock = ResultPaths{folder.results}.run_lock("sweep", pending_key);
+  fs::create_directories(fs::path(foreign_lock).parent_path());
+  std::ofstream(foreign_lock) << "pid 77 on node-killed-elsewhere started 5 token 02\n";
+
+  Finished resubmitted = folder.run({"--shard", "1/2", "--shard-plan", plan_path});
+  ASSERT_EQ(resubmitted.code, 0) << resubmitted.output;
+  EXPECT_NE(resubmitted.output.find("removing the stale lock " + foreign_lock), std::string::npos) << resubmitted.output;
+  EXPECT_NE(resubmitted.output.find(fmt::format("{} already stored, {} run now", before.size(), 4 - before.size())),
+            std::string::npos)
+      << resubmitted.output;
+  EXPECT_EQ(stored_keys(runs), shard_keys) << "exactly the shard's runs";
+  for (const auto& [key, hash] : records_before) {
+    EXPECT_EQ(inspect_stored_run(runs + "/" + key).record_hash, hash) << "run " << key << " stored before the kill was redone";
+  }
+  EXPECT_TRUE(half_written(folder.results).empty());
+}
+
+// `status` of a sweep planned in two shards: incomplete (exit 3) with the shard that has work, then
+// complete (exit 0), and a failed run counted as failed and not pending.
+TEST(SweepStatusCommand, IncompleteCompleteAndFailed) {
+  SweepFolder folder("status");
+  Experiment experiment = folder.experiment();
+  ASSERT_EQ(folder.command({"slurm", folder.file, "--results", folder.results, "--shards", "2"}).code, 0);
+  const std::string plan_path = folder.results + "/sweep/slurm/shard-plan.json";
+  ShardPlan plan = read_shard_plan(plan_path, &experiment);
+  const std::string sweep = folder.results + "/sweep";
+
+  Finished none = folder.command({"status", sweep});
+  EXPECT_EQ(none.code, 3) << none.output;
+  EXPECT_NE(none.output.find("6 runs: 0 stored ok, 0 failed, 6 pending"), std::string::npos) << none.output;
+
+  ASSERT_EQ(folder.run({"--shard", "0/2", "--shard-plan", plan_path}).code, 0);
+  size_t in_shard_one = 0;
+  for (const PlannedRun& run : plan.runs) in_shard_one += run.shard == 1 ? 1 : 0;
+  Finished incomplete = folder.command({"status", sweep});
+  EXPECT_EQ(incomplete.code, 3) << incomplete.output;
+  EXPECT_NE(incomplete.output.find(fmt::format("{} stored ok, 0 failed, {} pending", 6 - in_shard_one, in_shard_one)),
+            std::string::npos)
+      << incomplete.output;
+  EXPECT_NE(incomplete.output.find(fmt::format("shard 1 has {} pending", in_shard_one)), std::string::npos) << incomplete.output;
+  EXPECT_EQ(incomplete.output.find("shard 0 has"), std::string::npos) << incomplete.output;
+  EXPECT_NE(incomplete.output.find("sbatch --array=1 "), std::string::npos) << incomplete.output;
+
+  ASSERT_EQ(folder.run({"--shard", "1/2", "--shard-plan", plan_path}).code, 0);
+  Finished complete = folder.command({"status", sweep});
+  EXPECT_EQ(complete.code, 0) << complete.output;
+  EXPECT_NE(complete.output.find("6 runs: 6 stored ok, 0 failed, 0 pending"), std::string::npos) << complete.output;
+  EXPECT_NE(complete.output.find("none has runs to do"), std::string::npos) << complete.output;
+
+  // A failed run, stored as the runner stores one: failed, not pending; the sweep is still complete.
+  RunRecord failed = run_identity(experiment, experiment.runs[2]);
+  failed.status = "failed";
+  failed.error = "prepare() threw";
+  store_run_folder(ResultPaths{folder.results}.run("sweep", experiment.runs[2].key), {}, failed.to_json());
+  SweepStatus status = sweep_status(sweep);
+  EXPECT_EQ(status.all.ok, 5u);
+  EXPECT_EQ(status.all.failed, 1u);
+  EXPECT_EQ(status.methods.at("photon_map").failed, 1u);
+  EXPECT_TRUE(status.complete());
+  Finished with_failure = folder.command({"status", sweep});
+  EXPECT_EQ(with_failure.code, 0) << with_failure.output;
+  EXPECT_NE(with_failure.output.find("6 runs: 5 stored ok, 1 failed, 0 pending"), std::string::npos) << with_failure.output;
+}

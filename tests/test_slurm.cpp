@@ -1,0 +1,159 @@
+// A sweep on a real single-node Slurm cluster (slurmctld and slurmd of Debian's slurm-wlm, started here
+// with a configuration in a temporary folder by tests/slurm/single_node_cluster.sh, and stopped here):
+// `causticbench slurm --submit` runs a reference job, an array of 3 shards after it and a report job
+// after the array; the stored runs equal those of a local `run` of the same experiment (same keys, same
+// records apart from timings) and the report is written. Skipped, saying why, only where the daemons
+// cannot start (no slurm-wlm, no auth/none plugin, a node that does not come up).
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <thread>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "experiments/experiment.h"
+#include "experiments/result_store.h"
+#include "tests/reliability/store_harness.h"
+#include "tests/test_support.h"
+
+using namespace causticbench;
+using namespace causticbench::store_harness;
+using causticbench::testing::run_command;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* const kSweep = R"(name: sweep
+scene: scene.yaml
+reference: {photons_per_pass: 20000, max_passes: 2, target_noise_floor: 0}
+repetitions: 1
+methods:
+  - method: photon_map
+    render: {max_radius: 0.3}
+    sweep:
+      photons: [1000, 2000, 3000]
+      k: [10, 20]
+)";
+
+// The cluster of one test: started in the constructor, stopped in the destructor, so that its daemons
+// end even when an assertion fails.
+class SingleNodeCluster {
+ public:
+  explicit SingleNodeCluster(const std::string& folder) : folder_(folder) {
+    code_ = run_command(fmt::format("bash {} start {}", CAUSTICBENCH_SLURM_CLUSTER, folder_), output_);
+    if (code_ == 0) ::setenv("SLURM_CONF", (folder_ + "/slurm.conf").c_str(), 1);
+  }
+  ~SingleNodeCluster() {
+    std::string output;
+    run_command(fmt::format("bash {} stop {}", CAUSTICBENCH_SLURM_CLUSTER, folder_), output);
+    ::unsetenv("SLURM_CONF");
+  }
+  int code() const { return code_; }
+  const std::string& output() const { return output_; }
+  std::string logs() const {
+    std::string text;
+    run_command(fmt::format("tail -n 30 {}/log/*", folder_), text);
+    return text;
+  }
+
+ private:
+  std::string folder_, output_;
+  int code_ = 0;
+};
+
+// The record without what differs between two measurements of one run: timings, memory peaks, and how
+// its build came to be (loaded from the reference job's build here, computed by the local run).
+nlohmann::json without_timings(nlohmann::json record) {
+  if (record.is_object()) {
+    for (const char* key : {"update_ms", "render_ms", "gpu_render_ms", "timings", "prepare", "prepare_seconds",
+                            "load_seconds", "save_seconds", "peak_rss_bytes"}) {
+      record.erase(key);
+    }
+  }
+  if (record.is_structured()) {
+    for (auto& value : record) value = without_timings(value);
+  }
+  return record;
+}
+
+std::map<std::string, nlohmann::json> stored_records(const std::string& runs_folder) {
+  std::map<std::string, nlohmann::json> records;
+  if (!fs::is_directory(runs_folder)) return records;
+  for (const auto& entry : fs::directory_iterator(runs_folder)) {
+    StoredRun stored = inspect_stored_run(entry.path().string());
+    if (stored.state == StoredRun::State::stored) records[entry.path().filename().string()] = without_timings(stored.record);
+  }
+  return records;
+}
+
+}  // namespace
+
+TEST(SlurmCluster, ReferenceJobShardArrayAndReportEqualALocalRun) {
+  auto start = std::chrono::steady_clock::now();
+  causticbench::testing::TemporaryFolder folder("slurm_cluster");
+  folder.write("scene.yaml", causticbench::testing::replace_once(causticbench::testing::kSmallGlassSphere,
+                                                                 "resolution: [40, 40]", "resolution: [24, 24]"));
+  const std::string experiment_file = folder.write("sweep.yaml", kSweep);
+  SingleNodeCluster cluster(folder.path("cluster"));
+  if (cluster.code() == 77) GTEST_SKIP() << "the Slurm daemons cannot start here: " << cluster.output();
+  ASSERT_EQ(cluster.code(), 0) << cluster.output();
+
+  const std::string results = folder.path("cluster_results");
+  Finished submitted = run_process({"slurm", experiment_file, "--shards", "3", "--results", results, "--cpus-per-task", "1",
+                                    "--time", "10:00", "--submit"},
+                                   folder.path("submit.txt"));
+  ASSERT_EQ(submitted.code, 0) << submitted.output;
+  ASSERT_NE(submitted.output.find("shard array"), std::string::npos) << submitted.output;
+
+  // Every job ends within 3 minutes (a few seconds on an idle machine).
+  std::string queue;
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(3);
+  do {
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    ASSERT_EQ(run_command("squeue -h -o '%i %T %r'", queue), 0) << queue;
+  } while (!queue.empty() && std::chrono::steady_clock::now() < deadline);
+  ASSERT_TRUE(queue.empty()) << "jobs still queued:\n" << queue << cluster.logs();
+
+  // Each job completed: the prepare job, the 3 array tasks, the report job.
+  std::ifstream jobs_file(results + "/sweep/slurm/jobs");
+  std::string prepare_job, shard_job, report_job;
+  jobs_file >> prepare_job >> shard_job >> report_job;
+  for (const std::string& job : {prepare_job, shard_job, report_job}) {
+    std::string state;
+    run_command("scontrol show job " + job + " | grep -o 'JobState=[A-Z_]*'", state);
+    size_t tasks = job == shard_job ? 3 : 1;
+    size_t completed = 0;
+    for (size_t at = state.find("JobState=COMPLETED"); at != std::string::npos; at = state.find("JobState=COMPLETED", at + 1))
+      ++completed;
+    EXPECT_EQ(completed, tasks) << "job " << job << ": " << state;
+  }
+  // The reference job computed the reference and the builds; no shard computed either.
+  std::string logs, shard_logs;
+  run_command("cat " + results + "/sweep/slurm/logs/*", logs);
+  run_command("cat " + results + "/sweep/slurm/logs/shard-*", shard_logs);
+  EXPECT_NE(logs.find("computing"), std::string::npos) << logs;
+  EXPECT_EQ(shard_logs.find("computing"), std::string::npos) << shard_logs;
+  EXPECT_EQ(shard_logs.find(": computed"), std::string::npos) << shard_logs;
+  EXPECT_TRUE(fs::exists(results + "/sweep/report.html")) << logs;
+  EXPECT_NE(logs.find("complete"), std::string::npos) << "the report job's status line\n" << logs;
+
+  // Locally, the builds are also computed first and loaded by the runs: a loaded photon_map build
+  // reports fewer memory_bytes than one computed in the run (its vectors' spare capacity).
+  const std::string local_results = folder.path("local_results");
+  ASSERT_EQ(run_process({"run", experiment_file, "--results", local_results, "--prepare-only"}, folder.path("prepare.txt")).code, 0);
+  Finished local = run_process({"run", experiment_file, "--results", local_results, "--no-report"}, folder.path("local.txt"));
+  ASSERT_EQ(local.code, 0) << local.output;
+  std::map<std::string, nlohmann::json> on_cluster = stored_records(results + "/sweep/runs");
+  std::map<std::string, nlohmann::json> here = stored_records(local_results + "/sweep/runs");
+  ASSERT_EQ(here.size(), load_experiment(experiment_file).runs.size());
+  ASSERT_EQ(on_cluster.size(), here.size()) << logs;
+  for (const auto& [key, record] : here) {
+    ASSERT_TRUE(on_cluster.count(key)) << "run " << key << " missing on the cluster";
+    EXPECT_EQ(on_cluster.at(key), record) << "run " << key;
+  }
+  std::cout << "Slurm end to end: "
+            << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s\n";
+}
