@@ -90,7 +90,10 @@ JobFiles write_jobs(const SlurmOptions& options, const Experiment& experiment, c
   write_text_atomically(
       folder + "/shards.sbatch",
       header(fmt::format("The {} shards (one array task each; resubmit one with sbatch --array=I)", plan.shards),
-             "shards", "shard-%a-%A.out", fmt::format("#SBATCH --array=0-{}\n", plan.shards - 1)) +
+             "shards", "shard-%a-%A.out",
+             // A failed prepare job cancels the array (rather than leaving it pending for ever); the
+             // report job then runs and shows what is stored.
+             fmt::format("#SBATCH --array=0-{}\n#SBATCH --kill-on-invalid-dep=yes\n", plan.shards - 1)) +
           fmt::format("exec {} run {} --results {} --shard \"${{SLURM_ARRAY_TASK_ID}}/{}\" "
                       "--shard-plan {} --no-report {}\n",
                       program, file, results, plan.shards,

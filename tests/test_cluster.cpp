@@ -10,7 +10,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <set>
 #include <thread>
 
 #include <fmt/format.h>
@@ -23,8 +22,7 @@
 #include "experiments/shard_plan.h"
 #include "experiments/store_lock.h"
 #include "experiments/sweep_status.h"
-#include "tests/reliability/store_harness.h"
-#include "tests/test_support.h"
+#include "tests/cluster_test_support.h"
 
 using namespace causticbench;
 using namespace causticbench::store_harness;
@@ -36,51 +34,9 @@ namespace {
 // and the causticbench processes it starts; set before any lock is taken, so the heartbeat follows it.
 const bool kStaleAfterTwoSeconds = (::setenv("CAUSTICBENCH_LOCK_STALE_SECONDS", "2", 1), true);
 
-// Three groups sharing one prepare() each (photons is a build knob of photon_map), two runs per group.
-const char* const kSweep = R"(name: sweep
-scene: scene.yaml
-reference: {photons_per_pass: 20000, max_passes: 2, target_noise_floor: 0}
-repetitions: 1
-methods:
-  - method: photon_map
-    render: {max_radius: 0.3}
-    sweep:
-      photons: [1000, 2000, 3000]
-      k: [10, 20]
-)";
-
-class SweepFolder : public causticbench::testing::TemporaryFolder {
- public:
-  explicit SweepFolder(const std::string& name, const std::string& experiment = kSweep)
-      : TemporaryFolder("cluster_" + name) {
-    write("scene.yaml", causticbench::testing::replace_once(causticbench::testing::kSmallGlassSphere,
-                                                            "resolution: [40, 40]", "resolution: [24, 24]"));
-    file = write("sweep.yaml", experiment);
-    results = path("results");
-  }
-  Experiment experiment() const { return load_experiment(file); }
-  Finished run(const std::vector<std::string>& extra) {
-    std::vector<std::string> arguments = {"run", file, "--results", results, "--no-report"};
-    arguments.insert(arguments.end(), extra.begin(), extra.end());
-    return run_process(arguments, path("output_" + std::to_string(outputs_++) + ".txt"));
-  }
-  Finished command(const std::vector<std::string>& arguments) {
-    return run_process(arguments, path("output_" + std::to_string(outputs_++) + ".txt"));
-  }
-  std::string file, results;
-
- private:
-  int outputs_ = 0;
-};
-
-std::set<std::string> stored_keys(const std::string& runs_folder) {
-  std::set<std::string> keys;
-  if (!fs::is_directory(runs_folder)) return keys;
-  for (const auto& entry : fs::directory_iterator(runs_folder)) {
-    if (run_is_stored(entry.path().string())) keys.insert(entry.path().filename().string());
-  }
-  return keys;
-}
+using causticbench::testing::kClusterSweep;
+using causticbench::testing::stored_keys;
+using causticbench::testing::SweepFolder;
 
 std::string line_of(const std::string& path) {
   std::ifstream stream(path);
@@ -153,7 +109,7 @@ TEST(StoreLockFiles, HeldLockIsRefreshedByTheHeartbeat) {
 // cost are dealt so that no shard exceeds the least loaded one by more than the largest group.
 TEST(ShardPlans, GroupsStayTogetherAndShardsAreBalanced) {
   SweepFolder folder("plan", causticbench::testing::replace_once(
-                                 kSweep, "repetitions: 1", "repetitions: 1\nvariants:\n  - {name: small}\n"
+                                 kClusterSweep, "repetitions: 1", "repetitions: 1\nvariants:\n  - {name: small}\n"
                                                            "  - {name: large, resolution: [72, 72]}"));
   Experiment experiment = folder.experiment();
   ASSERT_EQ(experiment.runs.size(), 12u);
@@ -185,7 +141,7 @@ TEST(ShardPlans, PlanOfAnotherSweepIsRefused) {
   write_shard_plan(folder.path("plan.json"), plan_shards(experiment, 2, &paths));
   EXPECT_EQ(read_shard_plan(folder.path("plan.json"), &experiment).shard_of.size(), 6u);
   Experiment changed = load_experiment(
-      folder.write("changed.yaml", causticbench::testing::replace_once(kSweep, "k: [10, 20]", "k: [10, 30]")));
+      folder.write("changed.yaml", causticbench::testing::replace_once(kClusterSweep, "k: [10, 20]", "k: [10, 30]")));
   std::string message = causticbench::testing::input_error_message([&] { read_shard_plan(folder.path("plan.json"), &changed); });
   EXPECT_NE(message.find("plan it again"), std::string::npos) << message;
   Finished finished = folder.run({"--shard", "0/3", "--shard-plan", folder.path("plan.json")});
@@ -228,7 +184,7 @@ TEST(ShardPlans, PrepareOnlyThenShardsByPlanStoreEveryRunOnce) {
 TEST(ShardPlans, KilledShardResubmittedFinishesWithNothingLostOrDuplicated) {
   // Heavy enough runs (200k photons, 3 passes each) that the kill lands mid-shard; one shard of one.
   SweepFolder folder("killed_shard", causticbench::testing::replace_once(
-                                         causticbench::testing::replace_once(kSweep, "[1000, 2000, 3000]", "[200000, 210000]"),
+                                         causticbench::testing::replace_once(kClusterSweep, "[1000, 2000, 3000]", "[200000, 210000]"),
                                          "k: [10, 20]", "k: [10, 20, 30, 40]"));
   Experiment experiment = folder.experiment();
   ASSERT_EQ(folder.command({"slurm", folder.file, "--results", folder.results, "--shards", "2"}).code, 0);
@@ -268,6 +224,8 @@ TEST(ShardPlans, KilledShardResubmittedFinishesWithNothingLostOrDuplicated) {
   Finished resubmitted = folder.run({"--shard", "1/2", "--shard-plan", plan_path});
   ASSERT_EQ(resubmitted.code, 0) << resubmitted.output;
   EXPECT_NE(resubmitted.output.find("removing the stale lock " + foreign_lock), std::string::npos) << resubmitted.output;
+  // The killed job claimed its group's runs together: the locks of those it had not stored are its.
+  EXPECT_NE(resubmitted.output.find("no longer exists on this host"), std::string::npos) << resubmitted.output;
   EXPECT_NE(resubmitted.output.find(fmt::format("{} already stored, {} run now", before.size(), 4 - before.size())),
             std::string::npos)
       << resubmitted.output;
@@ -323,4 +281,22 @@ TEST(SweepStatusCommand, IncompleteCompleteAndFailed) {
   Finished with_failure = folder.command({"status", sweep});
   EXPECT_EQ(with_failure.code, 0) << with_failure.output;
   EXPECT_NE(with_failure.output.find("6 runs: 5 stored ok, 1 failed, 0 pending"), std::string::npos) << with_failure.output;
+}
+
+// Without a plan (a sweep run with `run` alone), `status` lists the runs of experiment.json, with the
+// methods of pending runs from the experiment file it names, and no shard line.
+TEST(SweepStatusCommand, WithoutAPlanFromExperimentJson) {
+  SweepFolder folder("status_no_plan");
+  ASSERT_EQ(folder.run({"--filter", "photons=1000"}).code, 0);
+  SweepStatus status = sweep_status(folder.results + "/sweep");
+  EXPECT_EQ(status.all.total, 6u);
+  EXPECT_EQ(status.all.ok, 2u);
+  EXPECT_EQ(status.all.pending, 4u);
+  ASSERT_EQ(status.methods.size(), 1u);
+  EXPECT_EQ(status.methods.begin()->first, "photon_map");
+  Finished finished = folder.command({"status", folder.results + "/sweep"});
+  EXPECT_EQ(finished.code, 3) << finished.output;
+  EXPECT_EQ(finished.output.find("shards ("), std::string::npos) << finished.output;
+  Finished missing = folder.command({"status", folder.results + "/nothing"});
+  EXPECT_EQ(missing.code, 2) << missing.output;
 }

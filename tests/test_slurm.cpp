@@ -16,8 +16,7 @@
 
 #include "experiments/experiment.h"
 #include "experiments/result_store.h"
-#include "tests/reliability/store_harness.h"
-#include "tests/test_support.h"
+#include "tests/cluster_test_support.h"
 
 using namespace causticbench;
 using namespace causticbench::store_harness;
@@ -25,18 +24,6 @@ using causticbench::testing::run_command;
 namespace fs = std::filesystem;
 
 namespace {
-
-const char* const kSweep = R"(name: sweep
-scene: scene.yaml
-reference: {photons_per_pass: 20000, max_passes: 2, target_noise_floor: 0}
-repetitions: 1
-methods:
-  - method: photon_map
-    render: {max_radius: 0.3}
-    sweep:
-      photons: [1000, 2000, 3000]
-      k: [10, 20]
-)";
 
 // The cluster of one test: started in the constructor, stopped in the destructor, so that its daemons
 // end even when an assertion fails.
@@ -93,10 +80,8 @@ std::map<std::string, nlohmann::json> stored_records(const std::string& runs_fol
 
 TEST(SlurmCluster, ReferenceJobShardArrayAndReportEqualALocalRun) {
   auto start = std::chrono::steady_clock::now();
-  causticbench::testing::TemporaryFolder folder("slurm_cluster");
-  folder.write("scene.yaml", causticbench::testing::replace_once(causticbench::testing::kSmallGlassSphere,
-                                                                 "resolution: [40, 40]", "resolution: [24, 24]"));
-  const std::string experiment_file = folder.write("sweep.yaml", kSweep);
+  causticbench::testing::SweepFolder folder("slurm");
+  const std::string experiment_file = folder.file;
   SingleNodeCluster cluster(folder.path("cluster"));
   if (cluster.code() == 77) GTEST_SKIP() << "the Slurm daemons cannot start here: " << cluster.output();
   ASSERT_EQ(cluster.code(), 0) << cluster.output();
@@ -138,7 +123,7 @@ TEST(SlurmCluster, ReferenceJobShardArrayAndReportEqualALocalRun) {
   EXPECT_EQ(shard_logs.find("computing"), std::string::npos) << shard_logs;
   EXPECT_EQ(shard_logs.find(": computed"), std::string::npos) << shard_logs;
   EXPECT_TRUE(fs::exists(results + "/sweep/report.html")) << logs;
-  EXPECT_NE(logs.find("complete"), std::string::npos) << "the report job's status line\n" << logs;
+  EXPECT_NE(logs.find("\ncomplete\n"), std::string::npos) << "the report job's status line\n" << logs;
 
   // Locally, the builds are also computed first and loaded by the runs: a loaded photon_map build
   // reports fewer memory_bytes than one computed in the run (its vectors' spare capacity).
