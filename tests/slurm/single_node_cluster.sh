@@ -47,13 +47,19 @@ if [ ! -f "$plugins/auth_none.so" ] || [ ! -f "$plugins/cred_none.so" ]; then
 fi
 
 node=$(hostname -s)
-controller_port=$(free_port)
-node_port=$(free_port)
-while [ "$node_port" = "$controller_port" ]; do node_port=$(free_port); done
 cpus=$(nproc)
 memory=$(( $(awk '/MemTotal/ {print $2}' /proc/meminfo) / 1024 / 2 ))
 mkdir -p "$folder/state" "$folder/spool" "$folder/log"
-cat > "$folder/slurm.conf" <<CONF
+export SLURM_CONF=$folder/slurm.conf
+
+# Starts both daemons on two free ports; 0 once the node is idle, within 30 s. Two attempts: a port found
+# free may be taken by another program before slurmctld binds it.
+start_daemons() {
+  local controller_port node_port state
+  controller_port=$(free_port)
+  node_port=$(free_port)
+  while [ "$node_port" = "$controller_port" ]; do node_port=$(free_port); done
+  cat > "$SLURM_CONF" <<CONF
 ClusterName=causticbench-test
 SlurmctldHost=$node(127.0.0.1)
 SlurmctldPort=$controller_port
@@ -83,23 +89,27 @@ SchedulerType=sched/backfill
 NodeName=$node NodeAddr=127.0.0.1 CPUs=$cpus RealMemory=$memory State=UNKNOWN
 PartitionName=test Nodes=$node Default=YES MaxTime=INFINITE State=UP
 CONF
-export SLURM_CONF=$folder/slurm.conf
+  slurmctld -D -i -f "$SLURM_CONF" >>"$folder/log/slurmctld.out" 2>&1 &
+  echo $! > "$folder/slurmctld.pid"
+  slurmd -D -f "$SLURM_CONF" -N "$node" >>"$folder/log/slurmd.out" 2>&1 &
+  echo $! > "$folder/slurmd.pid"
+  for _ in $(seq 150); do
+    state=$(sinfo -h -N -o '%T' 2>/dev/null | head -1)
+    if [ "$state" = idle ]; then
+      echo "single_node_cluster: node $node idle (controller 127.0.0.1:$controller_port, slurmd :$node_port)"
+      return 0
+    fi
+    sleep 0.2
+  done
+  echo "single_node_cluster: the node did not become idle in 30 s (state '${state:-none}')" >&2
+  stop
+  return 1
+}
 
-slurmctld -D -i -f "$SLURM_CONF" >"$folder/log/slurmctld.out" 2>&1 &
-echo $! > "$folder/slurmctld.pid"
-slurmd -D -f "$SLURM_CONF" -N "$node" >"$folder/log/slurmd.out" 2>&1 &
-echo $! > "$folder/slurmd.pid"
-
-# Bounded wait: the node must be idle within 30 s, or the daemons cannot run here.
-for _ in $(seq 150); do
-  state=$(sinfo -h -N -o '%T' 2>/dev/null | head -1)
-  if [ "$state" = idle ]; then
-    echo "single_node_cluster: node $node idle (controller 127.0.0.1:$controller_port, slurmd :$node_port)"
-    exit 0
-  fi
-  sleep 0.2
+for attempt in 1 2; do
+  start_daemons && exit 0
 done
-echo "single_node_cluster: the node did not become idle in 30 s (state '${state:-none}'); logs:" >&2
+echo "single_node_cluster: the daemons did not start; logs:" >&2
 tail -n 20 "$folder/log/"*.log "$folder/log/"*.out >&2 2>/dev/null
 stop
 exit 77
