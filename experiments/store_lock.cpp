@@ -92,11 +92,16 @@ std::string first_line(const std::string& text) {
 bool create_exclusive(const std::string& path, const std::string& content) {
   make_folders(fs::path(path).parent_path().string());
   std::string temporary = fmt::format("{}.{}.{}.tmp", path, host_name(), getpid());
-  {
-    std::ofstream stream(temporary, std::ios::binary | std::ios::trunc);
-    stream << content;
-    stream.flush();
-    if (!stream) throw WriteError(fmt::format("cannot write the lock file {}: {}", temporary, os_error_text(errno)));
+  int file = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  bool written = file >= 0 && ::write(file, content.data(), content.size()) == static_cast<ssize_t>(content.size());
+  int write_error = errno;
+  if (file >= 0 && ::close(file) != 0 && written) {
+    written = false;
+    write_error = errno;
+  }
+  if (!written) {
+    ::unlink(temporary.c_str());
+    throw WriteError(fmt::format("cannot write {} (a lock file): {}", temporary, os_error_text(write_error)));
   }
   bool created = ::link(temporary.c_str(), path.c_str()) == 0;
   int error_number = errno;
