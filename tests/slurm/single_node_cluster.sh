@@ -25,8 +25,17 @@ stop() {
   done
 }
 
+# A port of 127.0.0.1 that nothing listens on (a refused connection), drawn at random above the usual ones.
 free_port() {
-  python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1]); s.close()'
+  local port
+  for _ in $(seq 50); do
+    port=$(( 20000 + RANDOM % 30000 ))
+    if ! (exec 3<>"/dev/tcp/127.0.0.1/$port") 2>/dev/null; then
+      echo "$port"
+      return
+    fi
+  done
+  echo 0
 }
 
 if [ "$action" = stop ]; then
@@ -34,7 +43,7 @@ if [ "$action" = stop ]; then
   exit 0
 fi
 
-for program in slurmctld slurmd sbatch squeue sinfo python3; do
+for program in slurmctld slurmd sbatch squeue sinfo; do
   if ! command -v "$program" >/dev/null; then
     echo "single_node_cluster: $program is not installed (scripts/setup.sh installs slurm-wlm)" >&2
     exit 77
