@@ -4,6 +4,10 @@
 // after the array; the stored runs equal those of a local `run` of the same experiment (same keys, same
 // records apart from timings) and the report is written. Skipped, saying why, only where the daemons
 // cannot start (no slurm-wlm, no auth/none plugin, a node that does not come up).
+#include <fcntl.h>
+#include <sys/stat.h>
+
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -16,6 +20,7 @@
 
 #include "experiments/experiment.h"
 #include "experiments/result_store.h"
+#include "experiments/shard_plan.h"
 #include "tests/cluster_test_support.h"
 
 using namespace causticbench;
@@ -76,6 +81,17 @@ std::map<std::string, nlohmann::json> stored_records(const std::string& runs_fol
   return records;
 }
 
+// Waits (at most `seconds`) until no job is queued or running; "" then, else what squeue still lists.
+std::string wait_for_empty_queue(double seconds) {
+  std::string queue;
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  do {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    if (run_command("squeue -h -o '%i %T %r'", queue) != 0) return "squeue failed: " + queue;
+  } while (!queue.empty() && std::chrono::steady_clock::now() < deadline);
+  return queue;
+}
+
 }  // namespace
 
 TEST(SlurmCluster, ReferenceJobShardArrayAndReportEqualALocalRun) {
@@ -94,12 +110,7 @@ TEST(SlurmCluster, ReferenceJobShardArrayAndReportEqualALocalRun) {
   ASSERT_NE(submitted.output.find("shard array"), std::string::npos) << submitted.output;
 
   // Every job ends within 3 minutes (a few seconds on an idle machine).
-  std::string queue;
-  auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(3);
-  do {
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    ASSERT_EQ(run_command("squeue -h -o '%i %T %r'", queue), 0) << queue;
-  } while (!queue.empty() && std::chrono::steady_clock::now() < deadline);
+  std::string queue = wait_for_empty_queue(180);
   ASSERT_TRUE(queue.empty()) << "jobs still queued:\n" << queue << cluster.logs();
 
   // Each job completed: the prepare job, the 3 array tasks, the report job.
@@ -141,4 +152,86 @@ TEST(SlurmCluster, ReferenceJobShardArrayAndReportEqualALocalRun) {
   }
   std::cout << "Slurm end to end: "
             << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s\n";
+}
+
+// A shard job cancelled midway (scancel, as Slurm ends a job at its time limit) and resubmitted with
+// `sbatch --array=1 shards.sbatch` finishes its shard: what it stored before is kept as it was, the
+// rest is stored once. Midway for sure: one of its runs is locked by a job "on another host" whose
+// heartbeat this test keeps beating, so the shard stores its other run and waits; the cancel comes
+// then, and the other host's job dies too (its heartbeat stops), so the resubmitted shard recovers
+// that stale lock once it is 2 s old.
+TEST(SlurmCluster, ShardCancelledMidwayAndResubmittedFinishesItsShard) {
+  causticbench::testing::SweepFolder folder("slurm_cancel");
+  SingleNodeCluster cluster(folder.path("cluster"));
+  if (cluster.code() == 77) GTEST_SKIP() << "the Slurm daemons cannot start here: " << cluster.output();
+  ASSERT_EQ(cluster.code(), 0) << cluster.output();
+  ::setenv("CAUSTICBENCH_LOCK_STALE_SECONDS", "2", 1);  // sbatch passes this environment on to the jobs
+  const std::string results = folder.path("results"), slurm = results + "/sweep/slurm";
+  ASSERT_EQ(run_process({"slurm", folder.file, "--shards", "3", "--results", results}, folder.path("write.txt")).code, 0);
+  Experiment experiment = folder.experiment();
+  ShardPlan plan = read_shard_plan(slurm + "/shard-plan.json", &experiment);
+  std::vector<std::string> shard_runs;
+  for (const PlannedRun& run : plan.runs)
+    if (run.shard == 1) shard_runs.push_back(run.key);
+  ASSERT_EQ(shard_runs.size(), 2u);
+  const std::string foreign = ResultPaths{results}.run_lock("sweep", shard_runs[1]);
+  fs::create_directories(fs::path(foreign).parent_path());
+  std::ofstream(foreign) << "pid 31337 on node-b started 7 token 03\n";
+  std::atomic<bool> beating{true};
+  std::thread heartbeat([&] {
+    while (beating) {
+      ::utimensat(AT_FDCWD, foreign.c_str(), nullptr, 0);
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  });
+  struct Stop {
+    std::atomic<bool>& beating;
+    std::thread& thread;
+    ~Stop() {
+      beating = false;
+      if (thread.joinable()) thread.join();
+    }
+  } stop{beating, heartbeat};
+
+  std::string submitted;
+  ASSERT_EQ(run_command("bash " + slurm + "/submit.sh", submitted), 0) << submitted;
+  std::ifstream jobs_file(slurm + "/jobs");
+  std::string prepare_job, shard_job, report_job;
+  jobs_file >> prepare_job >> shard_job >> report_job;
+  // Shard 1 stores its free run, then waits for the locked one.
+  std::string log;
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(90);
+  while (log.find("waiting for run") == std::string::npos && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    run_command("cat " + slurm + "/logs/shard-1-*.out", log);
+  }
+  ASSERT_NE(log.find("waiting for run"), std::string::npos) << log << cluster.logs();
+  std::string cancelled;
+  ASSERT_EQ(run_command("scancel " + shard_job + "_1", cancelled), 0) << cancelled;
+  std::string queue = wait_for_empty_queue(120);
+  ASSERT_TRUE(queue.empty()) << queue << cluster.logs();
+  const std::string runs = results + "/sweep/runs";
+  EXPECT_TRUE(run_is_stored(runs + "/" + shard_runs[0]));
+  EXPECT_FALSE(run_is_stored(runs + "/" + shard_runs[1]));
+  const std::string hash_before = inspect_stored_run(runs + "/" + shard_runs[0]).record_hash;
+  std::string status;
+  EXPECT_EQ(run_command(fmt::format("{} status {}", CAUSTICBENCH_BINARY, results + "/sweep"), status), 3) << status;
+  EXPECT_NE(status.find("shard 1 has 1 pending"), std::string::npos) << status;
+
+  beating = false;  // the other host's job is gone too
+  std::string resubmitted;
+  ASSERT_EQ(run_command("cd " + slurm + " && sbatch --parsable --array=1 shards.sbatch", resubmitted), 0) << resubmitted;
+  queue = wait_for_empty_queue(120);
+  ASSERT_TRUE(queue.empty()) << queue << cluster.logs();
+  std::string again;
+  run_command(fmt::format("cat {}/logs/shard-1-{}.out", slurm, resubmitted.substr(0, resubmitted.find_first_of(";\n"))), again);
+  EXPECT_NE(again.find("removing the stale lock " + foreign), std::string::npos) << again;
+  EXPECT_NE(again.find("2 selected, 1 already stored, 1 run now"), std::string::npos) << again;
+  EXPECT_EQ(inspect_stored_run(runs + "/" + shard_runs[0]).record_hash, hash_before) << "a run stored before the cancel was redone";
+  std::set<std::string> expected;
+  for (const RunSpec& run : experiment.runs) expected.insert(run.key);
+  EXPECT_EQ(causticbench::testing::stored_keys(runs), expected);
+  EXPECT_EQ(run_command(fmt::format("{} status {}", CAUSTICBENCH_BINARY, results + "/sweep"), status), 0) << status;
+  EXPECT_TRUE(half_written(results).empty());
+  ::unsetenv("CAUSTICBENCH_LOCK_STALE_SECONDS");
 }

@@ -14,6 +14,14 @@ mkdir -p "$folder"
 folder=$(cd "$folder" && pwd)
 
 stop() {
+  # Jobs first: their processes (under slurmstepd) would outlive the daemons.
+  if [ -f "$folder/slurm.conf" ] && [ -f "$folder/slurmctld.pid" ]; then
+    SLURM_CONF=$folder/slurm.conf timeout 10 scancel --user="$(id -un)" 2>/dev/null
+    for _ in $(seq 25); do
+      [ -z "$(SLURM_CONF=$folder/slurm.conf timeout 5 squeue -h 2>/dev/null)" ] && break
+      sleep 0.2
+    done
+  fi
   for daemon in slurmd slurmctld; do
     if [ -f "$folder/$daemon.pid" ]; then
       pid=$(cat "$folder/$daemon.pid")
