@@ -132,13 +132,15 @@ int run_slurm(const SlurmOptions& options) {
   for (size_t i = 0; i < experiments.size(); ++i) {
     const Experiment& experiment = experiments[i];
     ShardPlan plan = plan_shards(experiment, options.shards, &paths);
-    size_t measured = 0;
-    for (const PlannedRun& run : plan.runs) measured += run.measured ? 1 : 0;
+    size_t stored = 0;
+    for (const PlannedRun& run : plan.runs) stored += run.stored ? 1 : 0;
     JobFiles jobs = write_jobs(options, experiment, fs::absolute(options.experiments[i]).lexically_normal().string(), plan);
     std::vector<std::string> loads;
     for (double seconds : plan.shard_seconds) loads.push_back(fmt::format("{:.3g}", seconds));
-    fmt::print("{}: {} runs in {} shards (estimated cost per shard: {}; {} runs estimated from stored timings)\n",
-               experiment.name, plan.runs.size(), plan.shards, join(loads, ", "), measured);
+    fmt::print("{}: {} runs, {} to do, in {} shards; estimated cost per shard: {} ({})\n", experiment.name,
+               plan.runs.size(), plan.runs.size() - stored, plan.shards, join(loads, ", "),
+               plan.timed_runs > 0 ? fmt::format("seconds, scaled by the timings of {} stored runs", plan.timed_runs)
+                                   : std::string("model units: nothing stored to scale them by"));
     fmt::print("  jobs: {}/prepare.sbatch, shards.sbatch, report.sbatch; submit with {}\n", jobs.folder, jobs.submit);
     if (options.submit) {
       std::string command = "bash " + shell_quoted(jobs.submit) + " 2>&1";

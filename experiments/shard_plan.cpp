@@ -21,30 +21,45 @@ double model_units(const Experiment& experiment, const RunSpec& run) {
 }
 
 struct StoredCost {
+  bool stored = false;           // ok or failed: the shards will skip it
+  bool timed = false;            // an ok record with timings
   double run_seconds = 0.0;      // update and render over every pass, the warm-up counted as one more
-  double prepare_seconds = 0.0;  // once per group
+  double uncached_prepare = 0.0;  // prepare() seconds when its build is not cached (each shard prepares again)
 };
 
-// From a stored ok record; std::nullopt when there is none or it holds no timings.
-std::optional<StoredCost> stored_cost(const ResultPaths& paths, const Experiment& experiment, const RunSpec& run) {
-  StoredRun stored = inspect_stored_run(paths.run(experiment.name, run.key));
-  if (stored.state != StoredRun::State::stored || stored.record.value("status", "") != "ok") return std::nullopt;
-  const nlohmann::json& record = stored.record;
-  if (!record.contains("frames") || !record["frames"].is_array() || record["frames"].empty()) return std::nullopt;
+StoredCost stored_cost(const ResultPaths& paths, const Experiment& experiment, const RunSpec& run) {
   StoredCost cost;
+  StoredRun stored = inspect_stored_run(paths.run(experiment.name, run.key));
+  cost.stored = stored.state == StoredRun::State::stored;
+  const nlohmann::json& record = stored.record;
+  if (!cost.stored || record.value("status", "") != "ok" || !record.contains("frames") || !record["frames"].is_array()) {
+    return cost;
+  }
   for (const nlohmann::json& frame : record["frames"]) {
     for (const char* field : {"update_ms", "render_ms"}) {
       if (!frame.contains(field) || !frame[field].is_array() || frame[field].empty()) continue;
       double sum = 0.0;
       for (const nlohmann::json& value : frame[field]) sum += value.is_number() ? value.get<double>() : 0.0;
       cost.run_seconds += sum / 1000.0 * (1.0 + 1.0 / static_cast<double>(frame[field].size()));
+      cost.timed = true;
     }
   }
-  if (record.contains("prepare") && record["prepare"].is_object()) {
-    cost.prepare_seconds = record["prepare"].value("prepare_seconds", 0.0);
+  if (record.contains("prepare") && record["prepare"].is_object() && record["prepare"].value("build_key", "").empty()) {
+    cost.uncached_prepare = record["prepare"].value("prepare_seconds", 0.0);
   }
   return cost;
 }
+
+// Seconds and model units of the timed runs of one group, one method, or all.
+struct Scale {
+  double seconds = 0.0, units = 0.0;
+  void add(double run_seconds, double run_units) {
+    seconds += run_seconds;
+    units += run_units;
+  }
+  bool known() const { return units > 0.0 && seconds > 0.0; }
+  double per_unit() const { return seconds / units; }
+};
 
 std::string group_key(const RunSpec& run) {
   return std::to_string(run.variant) + "/" + run.method + run.build.to_json().dump();
@@ -57,41 +72,46 @@ ShardPlan plan_shards(const Experiment& experiment, int shards, const ResultPath
   plan.experiment = experiment.name;
   plan.shards = shards;
   std::map<std::string, size_t> group_of;
-  std::vector<double> group_prepare;  // measured prepare seconds per group (0 when unknown)
-  std::vector<std::optional<StoredCost>> stored(experiment.runs.size());
-  // Seconds per model unit, per method and over all, from the runs that have stored timings.
-  std::map<std::string, std::pair<double, double>> method_scale;  // method -> (seconds, units)
-  double all_seconds = 0.0, all_units = 0.0;
+  std::vector<StoredCost> stored(experiment.runs.size());
+  std::vector<Scale> group_scale;
+  std::map<std::string, Scale> method_scale;
+  Scale all_scale;
+  std::vector<double> group_prepare;  // uncached prepare() seconds, where a stored run says
   for (size_t i = 0; i < experiment.runs.size(); ++i) {
     const RunSpec& run = experiment.runs[i];
-    auto [it, inserted] = group_of.insert({group_key(run), group_prepare.size()});
-    if (inserted) group_prepare.push_back(0.0);
+    auto [it, inserted] = group_of.insert({group_key(run), group_scale.size()});
+    if (inserted) {
+      group_scale.emplace_back();
+      group_prepare.push_back(0.0);
+    }
     plan.runs.push_back({run.key, run.method, run.label, it->second, 0, 0.0, false});
     if (!paths) continue;
     stored[i] = stored_cost(*paths, experiment, run);
-    if (!stored[i]) continue;
+    plan.runs.back().stored = stored[i].stored;
+    if (!stored[i].timed) continue;
     double units = model_units(experiment, run);
-    method_scale[run.method].first += stored[i]->run_seconds;
-    method_scale[run.method].second += units;
-    all_seconds += stored[i]->run_seconds;
-    all_units += units;
-    group_prepare[it->second] = std::max(group_prepare[it->second], stored[i]->prepare_seconds);
+    group_scale[it->second].add(stored[i].run_seconds, units);
+    method_scale[run.method].add(stored[i].run_seconds, units);
+    all_scale.add(stored[i].run_seconds, units);
+    group_prepare[it->second] = std::max(group_prepare[it->second], stored[i].uncached_prepare);
   }
-  std::vector<double> group_cost(group_prepare);
+  // Only what is still to do is dealt out: a stored run costs its shard nothing.
+  std::vector<double> group_cost(group_scale.size(), 0.0);
   for (size_t i = 0; i < experiment.runs.size(); ++i) {
     PlannedRun& planned = plan.runs[i];
-    if (stored[i]) {
-      planned.estimated_seconds = stored[i]->run_seconds;
-      planned.measured = true;
-    } else {
-      auto scale = method_scale.find(planned.method);
-      double per_unit = scale != method_scale.end() && scale->second.second > 0 ? scale->second.first / scale->second.second
-                        : all_units > 0                                        ? all_seconds / all_units
-                                                                               : 1.0;
-      planned.estimated_seconds = per_unit * model_units(experiment, experiment.runs[i]);
-    }
+    if (planned.stored) continue;
+    const Scale& group = group_scale[planned.group];
+    auto method = method_scale.find(planned.method);
+    double per_unit = group.known()                                                  ? group.per_unit()
+                      : method != method_scale.end() && method->second.known() ? method->second.per_unit()
+                      : all_scale.known()                                            ? all_scale.per_unit()
+                                                                                     : 1.0;
+    planned.estimated_seconds = per_unit * model_units(experiment, experiment.runs[i]);
+    if (group_cost[planned.group] == 0.0) group_cost[planned.group] += group_prepare[planned.group];
     group_cost[planned.group] += planned.estimated_seconds;
   }
+  plan.timed_runs = 0;
+  for (const StoredCost& cost : stored) plan.timed_runs += cost.timed ? 1 : 0;
   // Largest group first, to the least loaded shard; ties by group index and shard index: deterministic.
   std::vector<size_t> order(group_cost.size());
   std::iota(order.begin(), order.end(), 0);
@@ -115,9 +135,13 @@ nlohmann::json ShardPlan::to_json() const {
   nlohmann::json runs_json = nlohmann::json::array();
   for (const PlannedRun& run : runs) {
     runs_json.push_back({{"key", run.key}, {"method", run.method}, {"label", run.label}, {"group", run.group},
-                         {"shard", run.shard}, {"estimated_seconds", run.estimated_seconds}, {"measured", run.measured}});
+                         {"shard", run.shard}, {"estimated_seconds", run.estimated_seconds}, {"stored", run.stored}});
   }
-  return {{"experiment", experiment}, {"shards", shards}, {"shard_estimated_seconds", shard_seconds}, {"runs", runs_json}};
+  return {{"experiment", experiment},
+          {"shards", shards},
+          {"timed_runs", timed_runs},
+          {"shard_estimated_seconds", shard_seconds},
+          {"runs", runs_json}};
 }
 
 std::string shard_plan_path(const ResultPaths& paths, const std::string& experiment_name) {
@@ -138,11 +162,12 @@ ShardPlan read_shard_plan(const std::string& path, const Experiment* experiment)
     if (json.is_discarded()) throw std::runtime_error("not valid JSON");
     plan.experiment = json.at("experiment").get<std::string>();
     plan.shards = json.at("shards").get<int>();
+    plan.timed_runs = json.value("timed_runs", size_t{0});
     plan.shard_seconds = json.at("shard_estimated_seconds").get<std::vector<double>>();
     for (const nlohmann::json& run : json.at("runs")) {
       plan.runs.push_back({run.at("key").get<std::string>(), run.at("method").get<std::string>(),
                            run.at("label").get<std::string>(), run.at("group").get<size_t>(), run.at("shard").get<int>(),
-                           run.at("estimated_seconds").get<double>(), run.value("measured", false)});
+                           run.at("estimated_seconds").get<double>(), run.value("stored", false)});
       if (plan.runs.back().shard < 0 || plan.runs.back().shard >= plan.shards) throw std::runtime_error("a shard out of range");
       plan.shard_of[plan.runs.back().key] = plan.runs.back().shard;
     }

@@ -9,10 +9,13 @@
 //  - without a plan file, on the experiment alone (the cost model below, never the store);
 //  - with a plan file (written once by `causticbench slurm`, read by every shard), on the stored
 //    timings of earlier runs as they were when it was written.
-// Cost of a run: its stored timings when an earlier run of the same key left them (prepare once per
-// group, every timed pass and the warm-up of update and render); otherwise the model pixels x frames x
-// (repetitions + 1), scaled to seconds by the stored runs of the same method (or of any method) where
-// there are some. No method declares its own estimate yet; the model is the fallback the issue allows.
+// Only what is still to do is dealt out: a run already stored (ok or failed) costs its shard nothing.
+// Cost of a run to do: the model pixels x frames x (repetitions + 1), in seconds per model unit as the
+// stored timings of earlier runs measured it (update and render of every timed pass and the warm-up):
+// those of its own group where some of the group is stored, else of its method, else of any method;
+// plus, once per group, the prepare() time a stored run of the group measured when its build is not
+// cached (each shard then prepares again; a cached build is computed by the prepare job). No method
+// declares its own estimate yet: the model is the fallback the issue allows.
 #pragma once
 
 #include <map>
@@ -30,15 +33,16 @@ struct PlannedRun {
   std::string key, method, label;
   size_t group = 0;  // index of its prepare() group
   int shard = 0;
-  double estimated_seconds = 0.0;
-  bool measured = false;  // the estimate is a stored timing, not the model
+  double estimated_seconds = 0.0;  // 0 for a stored run
+  bool stored = false;             // stored when planned: the shard skips it
 };
 
 struct ShardPlan {
   std::string experiment;
   int shards = 1;
   std::vector<PlannedRun> runs;          // in the experiment's order
-  std::vector<double> shard_seconds;     // estimated cost per shard
+  std::vector<double> shard_seconds;     // estimated cost per shard of the runs still to do
+  size_t timed_runs = 0;                 // stored runs whose timings scaled the estimates
   std::map<std::string, int> shard_of;   // run key -> shard
 
   nlohmann::json to_json() const;

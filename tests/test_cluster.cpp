@@ -133,6 +133,34 @@ TEST(ShardPlans, GroupsStayTogetherAndShardsAreBalanced) {
   EXPECT_EQ(plan_shards(experiment, 3, nullptr).shard_of, plan.shard_of);
 }
 
+// Planned after part of the sweep ran: the stored runs cost their shard nothing, and the estimates of the
+// runs to do are seconds, scaled by the stored runs' timings, not model units.
+TEST(ShardPlans, StoredRunsCostNothingAndScaleTheEstimates) {
+  SweepFolder folder("plan_stored");
+  Experiment experiment = folder.experiment();
+  ASSERT_EQ(folder.run({"--filter", "photons=1000"}).code, 0);
+  ResultPaths paths{folder.results};
+  ShardPlan plan = plan_shards(experiment, 2, &paths);
+  EXPECT_EQ(plan.timed_runs, 2u);
+  double to_do = 0.0;
+  for (const PlannedRun& run : plan.runs) {
+    bool done = run.label.find("photons=1000") != std::string::npos;
+    EXPECT_EQ(run.stored, done) << run.label;
+    if (done) {
+      EXPECT_EQ(run.estimated_seconds, 0.0) << run.label;
+    } else {
+      // 24 x 24 pixels, one frame, two passes: 1152 model units, a few milliseconds of photon_map.
+      EXPECT_GT(run.estimated_seconds, 0.0) << run.label;
+      EXPECT_LT(run.estimated_seconds, 10.0) << run.label;
+    }
+    to_do += run.estimated_seconds;
+  }
+  EXPECT_NEAR(plan.shard_seconds[0] + plan.shard_seconds[1], to_do, 1e-9 * to_do);
+  // The two groups still to do go to the two shards.
+  EXPECT_GT(plan.shard_seconds[0], 0.0);
+  EXPECT_GT(plan.shard_seconds[1], 0.0);
+}
+
 // A plan whose runs are not the experiment's (the experiment changed since) is refused with what to do.
 TEST(ShardPlans, PlanOfAnotherSweepIsRefused) {
   SweepFolder folder("plan_changed");
