@@ -74,15 +74,15 @@ int run_status(const std::string& folder) {
     fmt::print("  {:<14} {:>6} {:>6} {:>7} {:>8}\n", method, counts.total, counts.ok, counts.failed, counts.pending);
   }
   if (!status.plan.empty()) {
-    std::vector<std::string> with_work;
-    for (const auto& [shard, pending] : status.shard_pending) with_work.push_back(std::to_string(shard));
-    fmt::print("shards ({} planned in {}): ", status.shards, status.plan);
-    if (with_work.empty()) fmt::print("none has runs to do\n");
-    for (const auto& [shard, pending] : status.shard_pending) {
-      fmt::print("{}shard {} has {} pending", shard == status.shard_pending.begin()->first ? "" : ", ", shard, pending);
+    std::vector<std::string> shards, pending;
+    for (const auto& [shard, runs] : status.shard_pending) {
+      shards.push_back(std::to_string(shard));
+      pending.push_back(fmt::format("shard {} has {} pending", shard, runs));
     }
-    if (!with_work.empty()) {
-      fmt::print("\n  to finish them: sbatch --array={} {}\n", join(with_work, ","),
+    fmt::print("shards ({} planned in {}): {}\n", status.shards, status.plan,
+               pending.empty() ? std::string("none has runs to do") : join(pending, ", "));
+    if (!shards.empty()) {
+      fmt::print("  to finish them: sbatch --array={} {}\n", join(shards, ","),
                  (std::filesystem::path(status.plan).parent_path() / "shards.sbatch").string());
     }
   }
