@@ -5,6 +5,7 @@
 // records apart from timings) and the report is written. Skipped, saying why, only where the daemons
 // cannot start (no slurm-wlm, no auth/none plugin, a node that does not come up).
 #include <fcntl.h>
+#include <unistd.h>
 #include <sys/stat.h>
 
 #include <atomic>
@@ -35,7 +36,7 @@ namespace {
 class SingleNodeCluster {
  public:
   explicit SingleNodeCluster(const std::string& folder) : folder_(folder) {
-    code_ = run_command(fmt::format("bash {} start {}", CAUSTICBENCH_SLURM_CLUSTER, folder_), output_);
+    code_ = run_command(fmt::format("bash {} start {} {}", CAUSTICBENCH_SLURM_CLUSTER, folder_, ::getpid()), output_);
     if (code_ == 0) ::setenv("SLURM_CONF", (folder_ + "/slurm.conf").c_str(), 1);
   }
   ~SingleNodeCluster() {

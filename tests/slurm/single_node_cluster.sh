@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # A single-node Slurm cluster on this machine for the tests, all of it in one folder:
-#   single_node_cluster.sh start DIR   writes DIR/slurm.conf, starts slurmctld and slurmd, waits (bounded)
+#   single_node_cluster.sh start DIR [PID]
+#                                      writes DIR/slurm.conf, starts slurmctld and slurmd, waits (bounded)
 #                                      until the node is idle; exit 0 when the cluster takes jobs,
-#                                      77 when the daemons cannot start here (the test is then skipped)
+#                                      77 when the daemons cannot start here (the test is then skipped).
+#                                      With PID (the test's), a watchdog stops the cluster when that
+#                                      process ends without stopping it (killed on a CTest timeout).
 #   single_node_cluster.sh stop DIR    stops both daemons (by the pids they wrote into DIR)
 # Jobs are submitted with SLURM_CONF=DIR/slurm.conf. Authentication is auth/none and cred/none (Slurm 22.05
 # ships both): nothing but this machine's 127.0.0.1 is ever contacted, and no munge key is needed.
@@ -123,8 +126,21 @@ CONF
   return 1
 }
 
+watch_owner() {
+  local owner=$1
+  while kill -0 "$owner" 2>/dev/null && [ -f "$folder/slurmctld.pid" ]; do sleep 1; done
+  stop
+}
+
 for attempt in 1 2; do
-  start_daemons && exit 0
+  if start_daemons; then
+    if [ -n "${3:-}" ]; then
+      # Detached from the caller's output, which it would otherwise keep open.
+      watch_owner "$3" </dev/null >/dev/null 2>&1 &
+      disown
+    fi
+    exit 0
+  fi
 done
 echo "single_node_cluster: the daemons did not start; logs:" >&2
 tail -n 20 "$folder/log/"*.log "$folder/log/"*.out >&2 2>/dev/null
