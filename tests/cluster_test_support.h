@@ -1,9 +1,16 @@
 // The small sweep of the cluster tests (test_cluster.cpp, test_slurm.cpp) and a folder holding it.
 #pragma once
 
+#include <fcntl.h>
+#include <sys/stat.h>
+
+#include <atomic>
+#include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "experiments/experiment.h"
@@ -60,5 +67,33 @@ inline std::set<std::string> stored_keys(const std::string& runs_folder) {
   }
   return keys;
 }
+
+// A store lock held by a job "on another host": its file, with that host's holder line, refreshed every
+// 100 ms as the job's heartbeat would until stop() (the job dies) or destruction.
+class ForeignLock {
+ public:
+  ForeignLock(const std::string& path, const std::string& host) : path_(path) {
+    std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+    std::ofstream(path) << "pid 77 on " << host << " started 5 token 02\n";
+    heartbeat_ = std::thread([this] {
+      while (beating_) {
+        ::utimensat(AT_FDCWD, path_.c_str(), nullptr, 0);
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      }
+    });
+  }
+  ~ForeignLock() { stop(); }
+  ForeignLock(const ForeignLock&) = delete;
+  ForeignLock& operator=(const ForeignLock&) = delete;
+  void stop() {
+    beating_ = false;
+    if (heartbeat_.joinable()) heartbeat_.join();
+  }
+
+ private:
+  std::string path_;
+  std::atomic<bool> beating_{true};
+  std::thread heartbeat_;
+};
 
 }  // namespace causticbench::testing

@@ -227,20 +227,11 @@ TEST(ShardPlans, KilledShardResubmittedFinishesWithNothingLostOrDuplicated) {
   ASSERT_EQ(folder.run({"--prepare-only"}).code, 0);
 
   const std::string foreign_lock = ResultPaths{folder.results}.run_lock("sweep", shard_keys[3]);
-  fs::create_directories(fs::path(foreign_lock).parent_path());
-  std::ofstream(foreign_lock) << "pid 77 on node-killed-elsewhere started 5 token 02\n";
-  std::atomic<bool> beating{true};
-  std::thread heartbeat([&] {
-    while (beating) {
-      ::utimensat(AT_FDCWD, foreign_lock.c_str(), nullptr, 0);
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-  });
+  causticbench::testing::ForeignLock foreign(foreign_lock, "node-killed-elsewhere");
   const std::vector<std::string> shard = {"run", folder.file, "--results", folder.results, "--no-report",
                                           "--shard", "1/3", "--shard-plan", plan_path};
   Finished killed = run_process(shard, folder.path("killed.txt"), {"CAUSTICBENCH_FAULT_INJECT=kill@" + shard_keys[2]});
-  beating = false;
-  heartbeat.join();
+  foreign.stop();  // that job is killed too
   ASSERT_EQ(killed.code, 128 + SIGKILL) << killed.output;
 
   const std::string runs = folder.results + "/sweep/runs";

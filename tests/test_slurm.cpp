@@ -176,23 +176,7 @@ TEST(SlurmCluster, ShardCancelledMidwayAndResubmittedFinishesItsShard) {
     if (run.shard == 1) shard_runs.push_back(run.key);
   ASSERT_EQ(shard_runs.size(), 2u);
   const std::string foreign = ResultPaths{results}.run_lock("sweep", shard_runs[1]);
-  fs::create_directories(fs::path(foreign).parent_path());
-  std::ofstream(foreign) << "pid 31337 on node-b started 7 token 03\n";
-  std::atomic<bool> beating{true};
-  std::thread heartbeat([&] {
-    while (beating) {
-      ::utimensat(AT_FDCWD, foreign.c_str(), nullptr, 0);
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-  });
-  struct Stop {
-    std::atomic<bool>& beating;
-    std::thread& thread;
-    ~Stop() {
-      beating = false;
-      if (thread.joinable()) thread.join();
-    }
-  } stop{beating, heartbeat};
+  causticbench::testing::ForeignLock foreign_job(foreign, "node-b");
 
   std::string submitted;
   ASSERT_EQ(run_command("bash " + slurm + "/submit.sh", submitted), 0) << submitted;
@@ -219,7 +203,7 @@ TEST(SlurmCluster, ShardCancelledMidwayAndResubmittedFinishesItsShard) {
   EXPECT_EQ(run_command(fmt::format("{} status {}", CAUSTICBENCH_BINARY, results + "/sweep"), status), 3) << status;
   EXPECT_NE(status.find("shard 1 has 1 pending"), std::string::npos) << status;
 
-  beating = false;  // the other host's job is gone too
+  foreign_job.stop();  // the other host's job is gone too
   std::string resubmitted;
   ASSERT_EQ(run_command("cd " + slurm + " && sbatch --parsable --array=1 shards.sbatch", resubmitted), 0) << resubmitted;
   queue = wait_for_empty_queue(120);
