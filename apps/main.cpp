@@ -104,7 +104,10 @@ int main(int argc, char** argv) {
   slurm_command->add_option("--mem", slurm.memory, "#SBATCH --mem of every job (e.g. 16G)");
   slurm_command->add_option("--account", slurm.account, "#SBATCH --account of every job");
   slurm_command->add_option("--sbatch", slurm.sbatch_lines,
-                            "an extra #SBATCH line for every job, e.g. --sbatch=--qos=long (repeatable)");
+                            "an extra #SBATCH line for every job, e.g. --sbatch=--qos=long (repeatable)")
+      ->allow_extra_args(false)
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);  // one line per --sbatch: never the experiments after it
 
   std::string status_folder;
   CLI::App* status_command = app.add_subcommand(
