@@ -30,9 +30,25 @@ struct ExperimentOptions {
   std::string shard;  // "i/n" or empty
   int threads = 0;
   bool report = true;  // write the report after the runs
+  std::string shard_plan;     // a plan file of `causticbench slurm`, or empty
+  bool prepare_only = false;  // only the missing references and builds
 };
 
 int run_experiment_command(const ExperimentOptions& options);
+// `causticbench slurm`: job scripts (and with `submit`, their submission) for sweeps on a Slurm cluster.
+struct SlurmOptions {
+  std::vector<std::string> experiments;
+  int shards = 1;
+  std::string results = "results";
+  std::string partition, time, memory, account;
+  int cpus_per_task = 0;  // 0: not set (Slurm's default of 1)
+  std::vector<std::string> sbatch_lines;
+  bool submit = false;
+};
+
+int run_slurm(const SlurmOptions& options);
+// Exit code 0 when every run is stored, 3 when runs are pending.
+int run_status(const std::string& folder);
 int run_report(const std::string& folder, bool recompute_metrics = false);
 int run_gpu_compare(const std::string& folder);
 int run_list();

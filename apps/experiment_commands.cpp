@@ -3,10 +3,13 @@
 #include <fmt/format.h>
 
 #include "apps/commands.h"
+#include "core/errors.h"
 #include "core/parallel.h"
 #include "experiments/recompute_metrics.h"
 #include "experiments/result_store.h"
 #include "experiments/runner.h"
+#include "experiments/shard_plan.h"
+#include "experiments/sweep_status.h"
 #include "reports/report.h"
 
 namespace causticbench {
@@ -21,10 +24,25 @@ int run_experiment_command(const ExperimentOptions& options) {
   run.force = options.force;
   run.filter = options.filter;
   run.threads = options.threads;
+  run.prepare_only = options.prepare_only;
   if (!options.shard.empty()) parse_shard(options.shard, run.shard_index, run.shard_count);
+  if (!options.shard_plan.empty()) {
+    if (options.shard.empty()) throw InputError("--shard-plan: expected with --shard i/n, found no --shard");
+    ShardPlan plan = read_shard_plan(options.shard_plan, &experiment);
+    if (plan.shards != run.shard_count) {
+      throw InputError(fmt::format("--shard {}: expected n = {}, the shards of the plan {}", options.shard, plan.shards,
+                                   options.shard_plan));
+    }
+    run.shard_of = plan.shard_of;
+  }
   check_results_folder(options.results);
   ThreadLimit limit(options.threads);
   RunSummary summary = run_experiment(experiment, run);
+  if (options.prepare_only) {
+    fmt::print("{}: references and builds ready for {} runs ({} builds computed, {} already stored)\n", experiment.name,
+               summary.selected - summary.stored, summary.builds_computed, summary.builds_stored);
+    return 0;
+  }
   fmt::print("{}: {} runs, {} selected, {} already stored, {} run now, {} failed\n", experiment.name, summary.total,
              summary.selected, summary.stored, summary.completed, summary.failed);
   if (options.dry_run) return 0;
@@ -45,6 +63,31 @@ int run_report(const std::string& folder, bool recompute_metrics) {
   fmt::print("report: {} ({} runs, {} failed)\n", report.html, report.runs, report.failed);
   fmt::print("also: {}, {}, {}\n", report.markdown, report.csv, report.json);
   return 0;
+}
+
+int run_status(const std::string& folder) {
+  SweepStatus status = sweep_status(folder);
+  fmt::print("{} ({}): {} runs: {} stored ok, {} failed, {} pending\n", status.experiment, folder, status.all.total,
+             status.all.ok, status.all.failed, status.all.pending);
+  fmt::print("  {:<14} {:>6} {:>6} {:>7} {:>8}\n", "method", "runs", "ok", "failed", "pending");
+  for (const auto& [method, counts] : status.methods) {
+    fmt::print("  {:<14} {:>6} {:>6} {:>7} {:>8}\n", method, counts.total, counts.ok, counts.failed, counts.pending);
+  }
+  if (!status.plan.empty()) {
+    std::vector<std::string> shards, pending;
+    for (const auto& [shard, runs] : status.shard_pending) {
+      shards.push_back(std::to_string(shard));
+      pending.push_back(fmt::format("shard {} has {} pending", shard, runs));
+    }
+    fmt::print("shards ({} planned in {}): {}\n", status.shards, status.plan,
+               pending.empty() ? std::string("none has runs to do") : join(pending, ", "));
+    if (!shards.empty()) {
+      fmt::print("  to finish them: sbatch --array={} {}\n", join(shards, ","),
+                 (std::filesystem::path(status.plan).parent_path() / "shards.sbatch").string());
+    }
+  }
+  fmt::print("{}\n", status.complete() ? "complete" : "incomplete");
+  return status.complete() ? 0 : 3;
 }
 
 }  // namespace causticbench

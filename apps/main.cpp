@@ -63,7 +63,15 @@ int main(int argc, char** argv) {
   run_command->add_flag("--force", experiment.force, "rerun runs that are already stored");
   run_command->add_option("--filter", experiment.filter,
                           "only runs matching every comma-separated term: knob=value, method=NAME, or a word of the label");
-  run_command->add_option("--shard", experiment.shard, "run only slice i of n (i/n, 0-based): the unit a scheduler hands out");
+  run_command->add_option("--shard", experiment.shard,
+                          "run only slice i of n (i/n, 0-based): the unit a scheduler hands out. Runs sharing one\n"
+                          "prepare() stay together and groups are dealt out by estimated cost (docs/cluster.md)");
+  run_command->add_option("--shard-plan", experiment.shard_plan,
+                          "with --shard: take the partition from this plan (RESULTS/<experiment>/slurm/shard-plan.json,\n"
+                          "written once by `causticbench slurm`), so that shards started at different times agree");
+  run_command->add_flag("--prepare-only", experiment.prepare_only,
+                        "only compute the missing references and builds of the selected runs, then exit (the job\n"
+                        "the shards of a cluster sweep wait for)");
   run_command->add_option("-t,--threads", experiment.threads, "worker threads (0: all cores)")
       ->capture_default_str()->check(CLI::Range(0, kMaximumThreads));
   run_command->add_flag("!--no-report", experiment.report, "do not write the report after the runs");
@@ -76,6 +84,36 @@ int main(int argc, char** argv) {
   report_command->add_flag("--recompute-metrics", recompute_metrics,
                            "first compute every metric of experiment.json again from the stored images (after a metric\n"
                            "was added or fixed), rewriting each run's record atomically; no method is run");
+
+  SlurmOptions slurm;
+  CLI::App* slurm_command = app.add_subcommand(
+      "slurm", "Write Slurm jobs for sweeps on a cluster sharing RESULTS (docs/cluster.md): per experiment, under\n"
+               "RESULTS/<experiment>/slurm/, a shard plan, a job computing every missing reference and build, an array\n"
+               "of --shards jobs depending on it (afterok), a report job depending on the array, and submit.sh,\n"
+               "which submits them in that order. Plain files: read and edit them, then run submit.sh or use --submit.");
+  slurm_command->add_option("experiments", slurm.experiments, "experiment files (YAML)")->required();
+  slurm_command->add_option("--shards", slurm.shards, "array jobs per experiment")->required()->check(CLI::Range(1, 10000));
+  slurm_command->add_option("--results", slurm.results, "results folder, on a filesystem every node mounts")
+      ->capture_default_str();
+  slurm_command->add_flag("--submit", slurm.submit, "also submit the jobs with sbatch (runs submit.sh)");
+  slurm_command->add_option("--partition", slurm.partition, "#SBATCH --partition of every job");
+  slurm_command->add_option("--time", slurm.time, "#SBATCH --time of every job (e.g. 4:00:00)");
+  slurm_command->add_option("--cpus-per-task", slurm.cpus_per_task,
+                            "#SBATCH --cpus-per-task of every job; also the runner's --threads")
+      ->check(CLI::Range(1, kMaximumThreads));
+  slurm_command->add_option("--mem", slurm.memory, "#SBATCH --mem of every job (e.g. 16G)");
+  slurm_command->add_option("--account", slurm.account, "#SBATCH --account of every job");
+  slurm_command->add_option("--sbatch", slurm.sbatch_lines,
+                            "an extra #SBATCH line for every job, e.g. --sbatch=--qos=long (repeatable)")
+      ->allow_extra_args(false)
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);  // one line per --sbatch: never the experiments after it
+
+  std::string status_folder;
+  CLI::App* status_command = app.add_subcommand(
+      "status", "How far a sweep is: runs stored ok, failed and pending, per method, and the shards of its plan\n"
+                "that still have runs to do. Exit code 0 when no run is pending, 3 otherwise.");
+  status_command->add_option("folder", status_folder, "an experiment's results folder, RESULTS/<experiment>")->required();
 
   std::string compare_folder;
   CLI::App* compare_command = app.add_subcommand(
@@ -104,6 +142,8 @@ int main(int argc, char** argv) {
     if (*render_command) return run_render(render);
     if (*run_command) return run_experiment_command(experiment);
     if (*report_command) return run_report(report_folder, recompute_metrics);
+    if (*slurm_command) return run_slurm(slurm);
+    if (*status_command) return run_status(status_folder);
     if (*compare_command) return run_gpu_compare(compare_folder);
     if (*list_command) return run_list();
     if (*describe_command) return run_describe(describe_name, markdown);

@@ -48,7 +48,7 @@ RunSelection select_runs(const Experiment& experiment, const RunOptions& options
   ReferenceChecksums references(experiment, paths);
   for (size_t i = 0; i < experiment.runs.size(); ++i) {
     const RunSpec& run = experiment.runs[i];
-    if (static_cast<int>(i % options.shard_count) != options.shard_index) continue;
+    if (options.shard_count > 1 && options.shard_of.at(run.key) != options.shard_index) continue;
     if (!options.filter.empty() && !run_matches_filter(experiment, run, options.filter)) continue;
     ++selection.selected;
     StoredRun stored = inspect_stored_run(paths.run(experiment.name, run.key));

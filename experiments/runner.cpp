@@ -14,7 +14,9 @@
 #include "experiments/reference_frames.h"
 #include "experiments/result_store.h"
 #include "experiments/run_measurement.h"
+#include "experiments/prepare_builds.h"
 #include "experiments/run_selection.h"
+#include "experiments/shard_plan.h"
 #include "experiments/store_files.h"
 #include "experiments/store_lock.h"
 #include "methods/lifecycle.h"
@@ -272,7 +274,11 @@ std::vector<const RunSpec*> specs(const std::vector<PendingRun>& pending) {
 
 }  // namespace
 
-RunSummary run_experiment(const Experiment& experiment, const RunOptions& options) {
+RunSummary run_experiment(const Experiment& experiment, const RunOptions& given_options) {
+  RunOptions options = given_options;
+  if (options.shard_count > 1 && options.shard_of.empty()) {
+    options.shard_of = plan_shards(experiment, options.shard_count, nullptr).shard_of;
+  }
   ResultPaths paths{options.results};
   RunSummary summary;
   summary.total = experiment.runs.size();
@@ -296,6 +302,12 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& option
   for (const PendingRun& entry : selection.pending) checked_variants.push_back(entry.run->variant);
   recheck_against_references(experiment, paths, checked_variants, selection);
   summary.stored = selection.stored;
+  if (options.prepare_only) {
+    BuildSummary builds = prepare_missing_builds(experiment, specs(selection.pending), paths);
+    summary.builds_computed = builds.computed;
+    summary.builds_stored = builds.stored;
+    return summary;
+  }
 
   make_folders(runs_folder);
   remove_stale_partial_files(folder);

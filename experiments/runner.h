@@ -6,6 +6,7 @@
 // (experiments/run_selection.h), and a run another process holds is waited for at the end.
 #pragma once
 
+#include <map>
 #include <string>
 
 #include "experiments/experiment.h"
@@ -19,7 +20,12 @@ struct RunOptions {
   std::string filter;
   int shard_index = 0;
   int shard_count = 1;
+  // Run key -> shard (experiments/shard_plan.h): a plan file's; when empty with shard_count > 1, the
+  // partition is planned from the experiment alone.
+  std::map<std::string, int> shard_of;
   int threads = 0;
+  // Only compute what the runs need and share: missing references and builds (experiments/prepare_builds.h).
+  bool prepare_only = false;
 };
 
 struct RunSummary {
@@ -28,6 +34,7 @@ struct RunSummary {
   size_t stored = 0;     // already stored and skipped
   size_t completed = 0;  // run now, status ok
   size_t failed = 0;     // run now, status failed
+  size_t builds_computed = 0, builds_stored = 0;  // --prepare-only
 };
 
 // "i/n" -> index, count; InputError otherwise.

@@ -1,8 +1,22 @@
 // Exclusive locks of the results store: one per reference key and one per run key, so that processes
-// sharing a results folder (two `causticbench run` of one experiment, the shards of a sweep) never
-// compute the same reference or run twice. A lock is flock(2) on a file under <results>/.locks/
-// (ResultPaths): the kernel releases it when its holder exits, killed or not, so a dead process never
-// leaves a lock behind. The file holds "pid <pid> on <host>" of the holder, for the waiting message only.
+// sharing a results folder (two `causticbench run` of one experiment, the shards of a sweep on a cluster)
+// never compute the same reference or run twice. The folder may be NFS as clusters mount it, where
+// flock(2) is missing or only local to one client, so a lock is the existence of a file
+// <results>/.locks/.../<key>.lock (ResultPaths), created by link(2) of a complete temporary file: atomic
+// on every NFS version, and the file never exists without its holder line
+// "pid <pid> on <host> started <start> token <random>".
+//
+// A holder that dies leaves its file behind; the next process that wants the lock removes it when it is
+// stale:
+//  - held on this host by a process that no longer exists (the pid is gone, or now belongs to a process
+//    that started at another time): at once;
+//  - held on another host: when its heartbeat stopped. A holder refreshes the modification time of every
+//    lock it holds every stale/8 seconds (one thread per process), and a lock not refreshed for
+//    CAUSTICBENCH_LOCK_STALE_SECONDS (default 120) is stale. The age is measured against the
+//    modification time of a file just touched in the same folder, so the file server's clock is the only
+//    clock involved and skewed clocks on the nodes do not matter.
+// Removing a stale lock is itself done under <lock>.break (created the same way), after reading the lock
+// again: two processes that find the same stale lock never remove a fresh one another just took.
 #pragma once
 
 #include <optional>
@@ -12,8 +26,8 @@ namespace causticbench {
 
 class StoreLock {
  public:
-  // The lock if no other process holds it, std::nullopt otherwise; WriteError when the lock file cannot
-  // be created.
+  // The lock if no other live process holds it (a stale one is removed first, with a warning on
+  // stderr), std::nullopt otherwise; WriteError when the lock file cannot be created.
   static std::optional<StoreLock> try_acquire(const std::string& path);
   // The lock, waiting for its holder when there is one; before waiting, says once on stderr
   // "waiting for <what>: pid N on HOST holds it (lock PATH)".
@@ -26,9 +40,14 @@ class StoreLock {
   ~StoreLock();
 
  private:
-  explicit StoreLock(int descriptor);
+  StoreLock(std::string path, std::string holder);
   void release();
-  int descriptor_ = -1;
+  std::string path_;    // empty when moved from or released
+  std::string holder_;  // the line this process wrote: the lock is removed only while it still holds it
 };
+
+// Seconds without a heartbeat after which a lock held on another host is stale
+// (CAUSTICBENCH_LOCK_STALE_SECONDS, default 120).
+double lock_stale_seconds();
 
 }  // namespace causticbench

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -26,6 +27,7 @@
 #include "experiments/record_check.h"
 #include "experiments/result_store.h"
 #include "experiments/store_files.h"
+#include "experiments/store_lock.h"
 #include "methods/build_cache.h"
 
 namespace causticbench::store_harness {
@@ -79,6 +81,10 @@ class Process {
     if (!ended_ && pid_ > 0) waitpid(pid_, &status_, 0);
     ended_ = true;
     return WIFEXITED(status_) ? WEXITSTATUS(status_) : 128 + WTERMSIG(status_);
+  }
+  // Sends `signal` (SIGKILL: as a scheduler ends a job past its time) unless it ended.
+  void kill_with(int signal) {
+    if (running()) ::kill(pid_, signal);
   }
   bool running() const {
     if (!ended_ && pid_ > 0 && waitpid(pid_, &status_, WNOHANG) == pid_) ended_ = true;
@@ -139,22 +145,14 @@ inline std::vector<std::pair<int, std::string>> traced_steps(const std::string& 
   return steps;
 }
 
-// Holds an exclusive flock on a store lock file, as another `causticbench` process would.
+// Holds a store lock, as another live `causticbench` process would.
 class HeldLock {
  public:
-  explicit HeldLock(const std::string& path) {
-    fs::create_directories(fs::path(path).parent_path());
-    descriptor_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
-    if (descriptor_ >= 0) ::flock(descriptor_, LOCK_EX);
-  }
-  ~HeldLock() { release(); }
-  void release() {
-    if (descriptor_ >= 0) ::close(descriptor_);
-    descriptor_ = -1;
-  }
+  explicit HeldLock(const std::string& path) : lock_(StoreLock::try_acquire(path)) {}
+  void release() { lock_.reset(); }
 
  private:
-  int descriptor_ = -1;
+  std::optional<StoreLock> lock_;
 };
 
 inline bool is_invisible(const std::string& name) {

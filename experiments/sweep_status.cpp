@@ -1,0 +1,95 @@
+#include "experiments/sweep_status.h"
+
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "core/errors.h"
+#include "experiments/experiment.h"
+#include "experiments/result_store.h"
+#include "experiments/shard_plan.h"
+#include "experiments/store_files.h"
+
+namespace causticbench {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct ListedRun {
+  std::string key, method;
+  int shard = -1;
+};
+
+// From experiment.json: the run keys; their methods from the experiment file when it still expands to them.
+std::vector<ListedRun> runs_of_experiment_json(const std::string& folder, std::string& name) {
+  const std::string path = (fs::path(folder) / "experiment.json").string();
+  std::optional<std::string> text = read_file_bytes(path);
+  if (!text) {
+    throw InputError(fmt::format("{}: expected an experiment's results folder (with experiment.json, written by "
+                                 "`causticbench run`, or slurm/shard-plan.json, written by `causticbench slurm`)",
+                                 folder));
+  }
+  nlohmann::json json = nlohmann::json::parse(*text, nullptr, false);
+  if (json.is_discarded() || !json.contains("runs") || !json["runs"].is_array()) {
+    throw InputError(fmt::format("{}: key 'runs': expected a list of run keys, found a damaged file", path));
+  }
+  name = json.value("name", fs::path(folder).filename().string());
+  std::vector<ListedRun> runs;
+  for (const nlohmann::json& key : json["runs"]) runs.push_back({key.get<std::string>(), "", -1});
+  try {
+    Experiment experiment = load_experiment(json.value("source", ""));
+    bool same = experiment.runs.size() == runs.size();
+    for (size_t i = 0; same && i < runs.size(); ++i) same = experiment.runs[i].key == runs[i].key;
+    if (same) {
+      for (size_t i = 0; i < runs.size(); ++i) runs[i].method = experiment.runs[i].method;
+    }
+  } catch (const std::exception&) {
+    // The experiment file moved or changed: stored runs still name their method in their records.
+  }
+  return runs;
+}
+
+}  // namespace
+
+SweepStatus sweep_status(const std::string& folder) {
+  SweepStatus status;
+  status.folder = folder;
+  std::vector<ListedRun> runs;
+  const std::string plan_path = (fs::path(folder) / "slurm" / "shard-plan.json").string();
+  if (fs::exists(plan_path)) {
+    ShardPlan plan = read_shard_plan(plan_path);
+    status.plan = plan_path;
+    status.shards = plan.shards;
+    status.experiment = plan.experiment;
+    for (const PlannedRun& run : plan.runs) runs.push_back({run.key, run.method, run.shard});
+  } else {
+    runs = runs_of_experiment_json(folder, status.experiment);
+  }
+  for (const ListedRun& run : runs) {
+    StoredRun stored = inspect_stored_run((fs::path(folder) / "runs" / run.key).string());
+    std::string method = run.method;
+    if (stored.state == StoredRun::State::stored) method = stored.record.value("method", method);
+    if (method.empty()) method = "(unknown)";
+    RunCounts& counts = status.methods[method];
+    ++counts.total;
+    ++status.all.total;
+    if (stored.state != StoredRun::State::stored) {
+      ++counts.pending;
+      ++status.all.pending;
+      if (run.shard >= 0) ++status.shard_pending[run.shard];
+    } else if (stored.record.value("status", "") == "ok") {
+      ++counts.ok;
+      ++status.all.ok;
+    } else {
+      ++counts.failed;
+      ++status.all.failed;
+    }
+  }
+  return status;
+}
+
+}  // namespace causticbench

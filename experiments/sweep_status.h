@@ -1,0 +1,32 @@
+// `causticbench status RESULTS/EXPERIMENT`: how far a (sharded) sweep is: runs stored ok, failed and
+// pending, per method, and, when it was planned for a cluster (experiments/shard_plan.h), the shards
+// that still have runs to do. Read only; takes no lock: a run being stored by a shard meanwhile is
+// counted as pending or stored, never half.
+#pragma once
+
+#include <map>
+#include <string>
+
+namespace causticbench {
+
+struct RunCounts {
+  size_t total = 0, ok = 0, failed = 0, pending = 0;  // pending: not stored, or damaged (it is measured again)
+};
+
+struct SweepStatus {
+  std::string experiment, folder;
+  std::string plan;  // the shard plan read, or empty
+  int shards = 0;    // of the plan; 0 without one
+  RunCounts all;
+  std::map<std::string, RunCounts> methods;  // "(unknown)" for pending runs whose method is not known
+  std::map<int, size_t> shard_pending;       // shard -> pending runs, only shards with some
+  bool complete() const { return all.total > 0 && all.pending == 0; }
+};
+
+// The runs come from the shard plan (<folder>/slurm/shard-plan.json) when there is one, which names
+// every run from the moment the sweep was planned; otherwise from experiment.json, written by the first
+// `causticbench run` (a pending run's method then comes from the experiment file it names, while that
+// file still expands to the same runs). InputError when the folder has neither.
+SweepStatus sweep_status(const std::string& folder);
+
+}  // namespace causticbench
