@@ -281,6 +281,7 @@ Counters CslMethod::counters() const {
           {"csl_evaluations", evaluations_},
           {"image_bytes", bytes},
           {"light_directions", directions},
+          {"spot_lights_per_direction", directions > 0.0 ? lights / directions : 0.0},
           {"triples_per_facet", facets > 0.0 ? triples / facets : 0.0},
           {"interpolated_spot_lights", interpolated_}};
 }

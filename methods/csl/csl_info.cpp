@@ -127,6 +127,8 @@ const MethodInfo& CslMethod::static_info() {
                   counter_quantity("csl_evaluations", "evaluations", "spot light evaluations in the last frame"),
                   counter_quantity("image_bytes", "bytes", "intensity images, all spot lights", QuantityKind::size),
                   counter_quantity("light_directions", "directions", "light directions with a spot light set, all objects"),
+                  counter_quantity("spot_lights_per_direction", "lights",
+                                   "spot lights per light direction, mean over all objects' sets (Liu 2008, Table 2: CSLs per light)"),
                   counter_quantity("triples_per_facet", "triples",
                                    "CSL triples per icosahedron facet, mean over the facets built (0 for static sets)"),
                   counter_quantity("interpolated_spot_lights", "lights",
@@ -175,6 +177,11 @@ TrackingSettings csl::tracking_settings(const ParamSet& build, const BoundingSph
   settings.rays_per_side = static_cast<int>(build.integer("tracking_rays_per_side"));
   settings.tree.min_energy = static_cast<float>(build.real("min_energy"));
   settings.bundle = generate_settings(build, bounds, 1.0).bundle;
+  // A tracking step turns the light by a twentieth of an edge, so an axis moves little; and the axes
+  // of a complex object's bundles orbit without converging (methods/csl/bundles.cpp), which at the
+  // 100-step cap of bundle extraction made tracking the bunny's 480 edges cost hours. 20 steps a
+  // tracking step bound it.
+  settings.bundle.max_iterations = 20;
   settings.match_distance = build.real("match_distance") * bounds.radius;
   return settings;
 }
