@@ -7,6 +7,7 @@
 #include "core/optics.h"
 #include "core/parallel.h"
 #include "gpu/cube_filter_check.h"
+#include "methods/pinhole/cube_filter.h"
 #include "methods/pinhole/texel_fetch.h"
 #include "methods/pinhole/throughput.h"
 #include "methods/pinhole/vulkan_pinhole.h"
@@ -30,12 +31,17 @@ const MethodInfo& PinholeMethod::static_info() {
                           "stratification of the samples (Section 3.2)", frame),
         ParamSpec::choice("filtering", "none", {"none", "isotropic", "anisotropic"},
                           "resampling filter of the light lookups from differential point samples (Section 3.3)", build),
+        ParamSpec::choice("filter_implementation", "own", {"own", "oiio", "hardware"},
+                          "own: the method's footprint filter on a mip-mapped cube map, the same on both backends; "
+                          "oiio: OpenImageIO's on a lat-long texture (cpu only); hardware: the device's textureGrad "
+                          "(vulkan only)", build)
+            .only_when("filtering", {"isotropic", "anisotropic"}),
         ParamSpec::choice("interaction", "reflect", {"reflect", "refract"},
                           "one mirror reflection, or one refraction (the variant Section 5 names)", build),
         ParamSpec::integer("environment_resolution", 256, 4, 4096, "cube map face size of the light map (paper: 256)", frame),
         ParamSpec::integer("seed", 1, 0, 4e9, "seed of the reflector sampling", frame),
         ParamSpec::choice("backend", "cpu", {"cpu", "vulkan"},
-                          "cpu (multithreaded, SIMD, OpenImageIO filtering) or vulkan (compute shader, textureGrad on a mip-mapped cube map; lavapipe without a GPU)", build),
+                          "cpu (multithreaded, SIMD) or vulkan (compute shader; lavapipe without a GPU)", build),
         ParamSpec::real("epsilon", -1.0, -1.0, 1e6,
                         "added to the squared distance against the singularity; -1: the squared sample spacing A/N", render),
         ParamSpec::boolean("attenuation", true, "cosines over squared distance; false reproduces Fig. 5", render),
@@ -105,9 +111,16 @@ void PinholeMethod::prepare(const PrepareContext& context, const ParamSet& build
   }
   build_ = build;
   scene_ = &scene;
+  filter_implementation_ = build.text("filtering") == "none" ? "" : build.text("filter_implementation");
+  if (filter_implementation_ == (build.text("backend") == "vulkan" ? "oiio" : "hardware")) {
+    throw InputError(fmt::format("pinhole: filter_implementation '{}' is not available on the {} backend (own, or {})",
+                                 filter_implementation_, build.text("backend"),
+                                 build.text("backend") == "vulkan" ? "hardware" : "oiio"));
+  }
   // A new scene or new build knobs: nothing of the last frame's light map carries over.
   cube_map_lights_.reset();
   filtered_map_.reset();
+  cube_filter_.reset();
   frame_data_ = PinholeFrameData{};
   sampler_note_.clear();
   if (build.text("backend") != "vulkan") {
@@ -116,7 +129,7 @@ void PinholeMethod::prepare(const PrepareContext& context, const ParamSet& build
   }
   if (!gpu_context_) gpu_context_ = std::make_unique<gpu::Context>();
   if (!vulkan_) vulkan_ = std::make_unique<VulkanPinhole>(*gpu_context_);
-  if (build.text("filtering") != "none") {
+  if (filter_implementation_ == "hardware") {
     // Filtered lookups are only what `filtering` says if the device's sampler follows textureGrad's
     // gradients; lavapipe's anisotropic sampler does not. The run goes on, and its record says so.
     gpu::CubeFilterCheck check = gpu::cached_cube_filter_check(*gpu_context_, build.text("filtering") == "anisotropic");
@@ -182,8 +195,11 @@ void PinholeMethod::update(const FrameContext& context, const ParamSet& knobs) {
         frame_data_.differentials.insert(frame_data_.differentials.end(), {v.x, v.y, v.z, 0.0f});
       }
     }
-    if (!vulkan_ && (lights_changed || !filtered_map_)) {
+    if (!vulkan_ && filter_implementation_ == "oiio" && (lights_changed || !filtered_map_)) {
       filtered_map_ = std::make_unique<FilteredLightMap>(lights, resolution * 2);
+    }
+    if (!vulkan_ && filter_implementation_ == "own" && (lights_changed || !cube_filter_)) {
+      cube_filter_ = std::make_unique<CubeFilter>(cube_map_.texels(), cube_map_.resolution());
     }
   }
   if (vulkan_) {
@@ -359,7 +375,10 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   const bool attenuation = params.boolean("attenuation");
   Interaction interaction{build_.text("interaction") == "refract", params.boolean("fresnel")};
   const std::string& filtering = build_.text("filtering");
-  const bool filtered = filtering != "none" && filtered_map_;
+  const bool filtered = filtering != "none" && (filtered_map_ || cube_filter_);
+  // The skip of footprints that reach no light changes nothing (tests/test_pinhole.cpp); the variable
+  // turns it off to show that.
+  const bool skip = std::getenv("CAUSTICBENCH_PINHOLE_NO_SKIP") == nullptr;
   const bool anisotropic = filtering == "anisotropic";
   const float footprint_radius = this->footprint_radius();
   // Structure of arrays for the hot loop (pixels x samples): positions and normals contiguous.
@@ -477,7 +496,8 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
                                ? moved_light - to_light
                                : Vec3(0.0f);
           }
-          radiance = filtered_map_->lookup(to_light, gradients[0], gradients[1], anisotropic);
+          radiance = cube_filter_ ? cube_filter_->lookup(to_light, gradients[0], gradients[1], anisotropic, skip)
+                                  : filtered_map_->lookup(to_light, gradients[0], gradients[1], anisotropic);
         } else {
           radiance = cube_map_.lookup(to_light);
         }
@@ -499,7 +519,7 @@ float PinholeMethod::epsilon_of(const ParamSet& params) const {
 
 size_t PinholeMethod::memory_bytes() const {
   return samples_.samples.size() * (sizeof(ReflectorSample) + sizeof(const Material*)) + cube_map_.memory_bytes() +
-         (filtered_map_ ? filtered_map_->memory_bytes() : 0);
+         (filtered_map_ ? filtered_map_->memory_bytes() : 0) + (cube_filter_ ? cube_filter_->memory_bytes() : 0);
 }
 
 Counters PinholeMethod::counters() const {
