@@ -198,9 +198,12 @@ void PinholeMethod::update(const FrameContext& context, const ParamSet& knobs) {
     if (!vulkan_ && filter_implementation_ == "oiio" && (lights_changed || !filtered_map_)) {
       filtered_map_ = std::make_unique<FilteredLightMap>(lights, resolution * 2);
     }
-    if (!vulkan_ && filter_implementation_ == "own" && (lights_changed || !cube_filter_)) {
+    if (filter_implementation_ == "own" && (lights_changed || !cube_filter_)) {
       cube_filter_ = std::make_unique<CubeFilter>(cube_map_.texels(), cube_map_.resolution());
+      lights_changed = true;  // the Vulkan backend uploads the filter's levels with the map
     }
+    frame_data_.own_filter = filter_implementation_ == "own" ? 1 : 0;
+    if (vulkan_ && filter_implementation_ == "own" && lights_changed) frame_data_.filter_levels = cube_filter_->texels();
   }
   if (vulkan_) {
     vulkan_->upload_samples(frame_data_);
@@ -567,6 +570,7 @@ nlohmann::json PinholeMethod::record() const {
   return {{"backend", build_.text("backend")},
           {"gpu_device", gpu_context_ ? gpu_context_->device_name() : ""},
           {"gpu_sampler_warning", sampler_note_},
+          {"filter_implementation", filter_implementation_},
           {"samples", samples_.samples.size()},
           {"reflector_area", samples_.total_area},
           {"sample_spacing", samples_.spacing},
