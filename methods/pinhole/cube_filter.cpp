@@ -114,6 +114,7 @@ CubeFilter::CubeFilter(const std::vector<float>& rgb, int resolution) {
     }
   }
   lit_everywhere_ = groups.size() > kMaxLitCones;
+  support_scale_ = (resolution & (resolution - 1)) == 0 ? 20.0f : 40.0f;
   if (!lit_everywhere_) {
     for (const auto& [cell, directions] : groups) {
       Vec3 sum(0.0f);
@@ -128,10 +129,10 @@ CubeFilter::CubeFilter(const std::vector<float>& rgb, int resolution) {
   }
 }
 
-Footprint CubeFilter::footprint(const Vec3& direction, const Vec3& gradient_u, const Vec3& gradient_v,
-                                bool anisotropic) const {
-  // The gradients' lengths in level-0 texels: the derivative of the face coordinates of the lookup's
-  // face (s = n/2 (sc / major + 1)), as a GPU's cube-map derivatives are taken.
+void CubeFilter::texel_lengths(const Vec3& direction, const Vec3& gradient_u, const Vec3& gradient_v, float& length_u,
+                               float& length_v) const {
+  // The derivative of the face coordinates of the lookup's face (s = n/2 (sc / major + 1)), as a GPU's
+  // cube-map derivatives are taken.
   const CubeFaceAxes& axes = cube_face_axes(cube_face_of(direction));
   const float major = glm::dot(axes.major, direction);
   const float u = glm::dot(axes.s, direction) / major, v = glm::dot(axes.t, direction) / major;
@@ -141,44 +142,62 @@ Footprint CubeFilter::footprint(const Vec3& direction, const Vec3& gradient_u, c
     float ds = (glm::dot(axes.s, g) - u * along_major) * half, dt = (glm::dot(axes.t, g) - v * along_major) * half;
     return std::sqrt(ds * ds + dt * dt);
   };
-  const float length_u = texels(gradient_u), length_v = texels(gradient_v);
+  length_u = texels(gradient_u);
+  length_v = texels(gradient_v);
+}
+
+Footprint CubeFilter::footprint(const Vec3& direction, const Vec3& gradient_u, const Vec3& gradient_v,
+                                bool anisotropic) const {
+  float length_u, length_v;
+  texel_lengths(direction, gradient_u, gradient_v, length_u, length_v);
   const float top = static_cast<float>(levels() - 1);
   Footprint result;
-  float probe_offset = 0.0f;  // the farthest probe from the centre, in direction units
   if (!anisotropic) {
     // One trilinear probe at the level whose texels are as wide as the longer edge.
     result.level = std::fmin(std::log2(std::fmax(std::fmax(length_u, length_v), 1.0f)), top);
-  } else {
-    // Footprint assembly: probes spaced along the longer edge, at the level of the shorter one, at most
-    // kMaxAnisotropy of them (a longer footprint is probed at the coarser level of longer / 16).
-    const bool u_longer = length_u >= length_v;
-    const float longer = std::fmax(length_u, length_v), shorter = std::fmin(length_u, length_v);
-    const float ratio = std::fmin(std::ceil(longer / std::fmax(shorter, 1.0f)), static_cast<float>(kMaxAnisotropy));
-    result.count = ratio >= 1.0f ? static_cast<int>(ratio) : 1;  // NaN gradients: one probe
-    result.level = std::fmin(std::log2(std::fmax(std::fmax(shorter, longer / result.count), 1.0f)), top);
-    const Vec3& edge = u_longer ? gradient_u : gradient_v;
-    const float count = static_cast<float>(result.count);
-    result.offset_step = edge / count;
-    result.offset_first = edge * (0.5f / count - 0.5f);
-    probe_offset = glm::length(result.offset_first);
+    return result;
   }
-  // The skip's reach: the probes' angle from the centre (a vector o moves a unit direction by at most
-  // |o| / (1 - |o|) radians) plus five texels of the coarser level read (bilinear neighbours, the texel's
-  // own extent, a border copied from the next face, an odd size's uneven boxes), a texel being at most
-  // 2 / n radians wide.
-  const int coarser = std::min(static_cast<int>(result.level) + 1, levels() - 1);
-  const float probe_angle = probe_offset < 0.5f ? probe_offset / (1.0f - probe_offset) : 4.0f;
-  result.reach = probe_angle + 10.0f / static_cast<float>(sizes_[coarser]);
-  if (!(result.reach < 4.0f)) result.reach = 4.0f;  // more than pi: everything (NaN too)
+  // Footprint assembly: probes spaced along the longer edge, at the level of the shorter one, at most
+  // kMaxAnisotropy of them (a longer footprint is probed at the coarser level of longer / 16).
+  const bool u_longer = length_u >= length_v;
+  const float longer = std::fmax(length_u, length_v), shorter = std::fmin(length_u, length_v);
+  const float ratio = std::fmin(std::ceil(longer / std::fmax(shorter, 1.0f)), static_cast<float>(kMaxAnisotropy));
+  result.count = ratio >= 1.0f ? static_cast<int>(ratio) : 1;  // NaN gradients: one probe
+  result.level = std::fmin(std::log2(std::fmax(std::fmax(shorter, longer / result.count), 1.0f)), top);
+  const Vec3& edge = u_longer ? gradient_u : gradient_v;
+  const float count = static_cast<float>(result.count);
+  result.offset_step = edge / count;
+  result.offset_first = edge * (0.5f / count - 0.5f);
   return result;
 }
 
-bool CubeFilter::may_reach_light(const Vec3& direction, const Footprint& footprint) const {
-  if (lit_everywhere_ || footprint.reach >= 3.0f) return true;
+std::vector<float> CubeFilter::lit_cone_data() const {
+  std::vector<float> data;
+  for (const Cone& cone : lit_cones_) data.insert(data.end(), {cone.axis.x, cone.axis.y, cone.axis.z, cone.radius});
+  return data;
+}
+
+bool CubeFilter::may_reach_light(const Vec3& direction, const Vec3& gradient_u, const Vec3& gradient_v,
+                                 bool anisotropic) const {
+  if (lit_everywhere_) return true;
+  float length_u, length_v;
+  texel_lengths(direction, gradient_u, gradient_v, length_u, length_v);
+  const float longer = length_u > length_v ? length_u : length_v, shorter = length_u > length_v ? length_v : length_u;
+  // The level's texels are at most `width` level-0 texels wide (footprint(): the longer edge, or the
+  // shorter edge or a sixteenth of the longer), so the coarser level read, c, has 10 / n_c <=
+  // support_scale_ * width / n_0 (n_c = n_0 / 2^c with 2^c <= 2 width; floor halves at most once more).
+  float width = anisotropic ? std::max({shorter, longer / kMaxAnisotropy, 1.0f}) : std::max(longer, 1.0f);
+  // The probes lie within half the longer gradient of the centre; a vector o moves a unit direction by
+  // at most |o| / (1 - |o|) radians.
+  float offset = 0.0f;
+  if (anisotropic) offset = 0.5f * std::sqrt(std::max(glm::dot(gradient_u, gradient_u), glm::dot(gradient_v, gradient_v)));
+  float reach = (offset < 0.5f ? offset / (1.0f - offset) : 4.0f) + support_scale_ * width / static_cast<float>(sizes_[0]);
+  reach = reach * 1.001f + 1e-5f;  // float rounding of the bound
+  if (!(reach < 3.0f)) return true;  // more than pi: anywhere (NaN gradients too)
   // Chords are shorter than arcs: a cone pair that overlaps has |d - axis| <= reach + radius.
   for (const Cone& cone : lit_cones_) {
     Vec3 difference = direction - cone.axis;
-    float limit = footprint.reach + cone.radius + 1e-4f;
+    float limit = reach + cone.radius + 1e-4f;
     if (glm::dot(difference, difference) <= limit * limit) return true;
   }
   return false;
@@ -219,9 +238,8 @@ Color CubeFilter::probes(const Vec3& direction, const Footprint& footprint) cons
 
 Color CubeFilter::lookup(const Vec3& direction, const Vec3& gradient_u, const Vec3& gradient_v, bool anisotropic,
                          bool skip) const {
-  Footprint footprint = this->footprint(direction, gradient_u, gradient_v, anisotropic);
-  if (skip && !may_reach_light(direction, footprint)) return Color(0.0f);
-  return probes(direction, footprint);
+  if (skip && !may_reach_light(direction, gradient_u, gradient_v, anisotropic)) return Color(0.0f);
+  return probes(direction, footprint(direction, gradient_u, gradient_v, anisotropic));
 }
 
 }  // namespace causticbench

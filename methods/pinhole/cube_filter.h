@@ -21,7 +21,6 @@ struct Footprint {
   float level = 0.0f;
   int count = 1;
   Vec3 offset_first{0.0f}, offset_step{0.0f};
-  float reach = 0.0f;  // angle (radians) around d that holds every texel the probes read (the skip's cone)
 };
 
 class CubeFilter {
@@ -44,8 +43,10 @@ class CubeFilter {
   Color lookup(const Vec3& direction, const Vec3& gradient_u, const Vec3& gradient_v, bool anisotropic,
                bool skip = true) const;
   Color probes(const Vec3& direction, const Footprint& footprint) const;
-  // Whether any texel within `footprint.reach` of `direction` may be non-zero (conservative).
-  bool may_reach_light(const Vec3& direction, const Footprint& footprint) const;
+  // Whether a texel that the footprint's probes read may be non-zero: false only when a cone around
+  // `direction` that holds every such texel misses every lit cone (conservative; cheaper than
+  // footprint(): no level, no probe count).
+  bool may_reach_light(const Vec3& direction, const Vec3& gradient_u, const Vec3& gradient_v, bool anisotropic) const;
   Color trilinear(const Vec3& direction, float level) const;
   // Bilinear at one level, across face borders (each face level has a border of one texel copied from
   // the neighbouring faces).
@@ -58,6 +59,10 @@ class CubeFilter {
   bool lit_everywhere() const { return lit_everywhere_; }
   size_t lit_cone_count() const { return lit_cones_.size(); }
   size_t memory_bytes() const { return texels_.size() * sizeof(float); }
+  // The skip's data for the vector pre-skip of the CPU kernel (pinhole.cpp): per lit cone its axis and
+  // radius (4 floats), and support_scale() / n_0, the reach per level-0 texel of footprint width.
+  std::vector<float> lit_cone_data() const;
+  float support_per_texel() const { return support_scale_ / static_cast<float>(sizes_[0]); }
 
  private:
   std::vector<int> sizes_;
@@ -69,6 +74,11 @@ class CubeFilter {
   };
   std::vector<Cone> lit_cones_;
   bool lit_everywhere_ = false;
+  float support_scale_ = 20.0f;  // the skip's bound on 10 / n_c per level-0 texel: 20 / n_0, 40 / n_0 for odd sizes
+
+  // The two gradients' lengths in level-0 texels on the face of `direction`.
+  void texel_lengths(const Vec3& direction, const Vec3& gradient_u, const Vec3& gradient_v, float& length_u,
+                     float& length_v) const;
 };
 
 // The face axes of the cube map (LightCubeMap's OpenGL layout): for a direction d on face f, the face

@@ -250,6 +250,7 @@ inline bool light_direction(const Vec3& direction, const Vec3& normal_in, bool t
   ATTRIBUTE static VEC div(VEC a, VEC b) { return PREFIX##_div_ps(a, b); }                               \
   ATTRIBUTE static VEC sqrt(VEC a) { return PREFIX##_sqrt_ps(a); }                                       \
   ATTRIBUTE static VEC bit_and(VEC a, VEC b) { return PREFIX##_and_ps(a, b); }                           \
+  ATTRIBUTE static VEC bit_or(VEC a, VEC b) { return PREFIX##_or_ps(a, b); }                             \
   ATTRIBUTE static VEC and_not(VEC a, VEC b) { return PREFIX##_andnot_ps(a, b); }                        \
   ATTRIBUTE static VEC select(VEC mask, VEC a, VEC b) { return PREFIX##_or_ps(PREFIX##_and_ps(mask, a), PREFIX##_andnot_ps(mask, b)); } \
   /* max and min return the second operand when the first is NaN: clamps turn NaN into a bound. */     \
@@ -263,6 +264,7 @@ struct Sse {
   static Vec less(Vec a, Vec b) { return _mm_cmplt_ps(a, b); }
   static Vec greater(Vec a, Vec b) { return _mm_cmpgt_ps(a, b); }
   static Vec greater_equal(Vec a, Vec b) { return _mm_cmpge_ps(a, b); }
+  static Vec unordered(Vec a, Vec b) { return _mm_cmpunord_ps(a, b); }
   static void store_int(int* p, Vec v) { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), _mm_cvttps_epi32(v)); }
   static Vec truncate(Vec v) { return _mm_cvtepi32_ps(_mm_cvttps_epi32(v)); }
 };
@@ -275,6 +277,7 @@ struct Avx2 {
   CAUSTICBENCH_AVX2 static Vec less(Vec a, Vec b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
   CAUSTICBENCH_AVX2 static Vec greater(Vec a, Vec b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
   CAUSTICBENCH_AVX2 static Vec greater_equal(Vec a, Vec b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
+  CAUSTICBENCH_AVX2 static Vec unordered(Vec a, Vec b) { return _mm256_cmp_ps(a, b, _CMP_UNORD_Q); }
   CAUSTICBENCH_AVX2 static void store_int(int* p, Vec v) {
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), _mm256_cvttps_epi32(v));
   }
@@ -356,6 +359,105 @@ void reflection_block(const ReflectionBlock& block) {
     reflection_block_avx2(block);
   } else {
     reflection_block_sse(block);
+  }
+}
+
+struct FilteredSkipBlock {
+  size_t count;  // a multiple of 8 (the arrays are padded)
+  const float *px, *py, *pz, *nx, *ny, *nz;
+  const float* moved[12];  // p + r u (xyz), p + r v (xyz), their normals (xyz, xyz); structure of arrays
+  Vec3 x;
+  const float* cones;  // CubeFilter::lit_cone_data()
+  size_t cone_count;
+  float support_per_texel, half_resolution;
+  bool anisotropic;
+  float* keep;  // 1 where the exact lookup may be non-zero, 0 where it is 0 for sure
+};
+
+// The filtered reflection's skip for one receiver point and a block of samples, eight (or four) at a
+// time: CubeFilter::may_reach_light's bound from the reflection and its two gradients, with the
+// gradients of moved points that face away taken as they come (the exact path takes them as zero,
+// which only shrinks its footprint: this bound stays above it), 1 % and 1e-4 rad more for rounding,
+// and NaN kept. Only what it keeps goes through the exact scalar lookup, so the sum is bit for bit the
+// one without any skip.
+template <typename S>
+void filtered_skip_lanes(const FilteredSkipBlock& b) {
+  using V = typename S::Vec;
+  const V zero = S::set1(0.0f), one = S::set1(1.0f), two = S::set1(2.0f), half = S::set1(0.5f);
+  const V sign_bit = S::set1(-0.0f);
+  const V xx = S::set1(b.x.x), xy = S::set1(b.x.y), xz = S::set1(b.x.z);
+  for (size_t i = 0; i < b.count; i += S::width) {
+    auto reflection = [&](const float* px, const float* py, const float* pz, const float* nx, const float* ny,
+                          const float* nz, V& wx, V& wy, V& wz) {
+      V ox = S::sub(S::load(px + i), xx), oy = S::sub(S::load(py + i), xy), oz = S::sub(S::load(pz + i), xz);
+      V inverse = S::div(one, S::sqrt(S::add(S::add(S::mul(ox, ox), S::mul(oy, oy)), S::mul(oz, oz))));
+      V dx = S::mul(ox, inverse), dy = S::mul(oy, inverse), dz = S::mul(oz, inverse);
+      V mx = S::load(nx + i), my = S::load(ny + i), mz = S::load(nz + i);
+      V twice = S::mul(two, S::sub(zero, S::add(S::add(S::mul(mx, dx), S::mul(my, dy)), S::mul(mz, dz))));
+      wx = S::add(dx, S::mul(twice, mx)), wy = S::add(dy, S::mul(twice, my)), wz = S::add(dz, S::mul(twice, mz));
+    };
+    V wx, wy, wz, ux, uy, uz, vx, vy, vz;
+    reflection(b.px, b.py, b.pz, b.nx, b.ny, b.nz, wx, wy, wz);
+    reflection(b.moved[0], b.moved[1], b.moved[2], b.moved[6], b.moved[7], b.moved[8], ux, uy, uz);
+    reflection(b.moved[3], b.moved[4], b.moved[5], b.moved[9], b.moved[10], b.moved[11], vx, vy, vz);
+    ux = S::sub(ux, wx), uy = S::sub(uy, wy), uz = S::sub(uz, wz);
+    vx = S::sub(vx, wx), vy = S::sub(vy, wy), vz = S::sub(vz, wz);
+    // The face of w and its axes, as LightCubeMap::direction_to_texel selects them.
+    V ax = S::and_not(sign_bit, wx), ay = S::and_not(sign_bit, wy), az = S::and_not(sign_bit, wz);
+    V x_major = S::bit_and(S::greater_equal(ax, ay), S::greater_equal(ax, az));
+    V y_major = S::and_not(x_major, S::greater_equal(ay, az));
+    V x_positive = S::greater(wx, zero), y_positive = S::greater(wy, zero), z_positive = S::greater(wz, zero);
+    auto face_s = [&](V a, V, V c) { return S::select(x_major, S::select(x_positive, S::sub(zero, c), c),
+                                                      S::select(y_major, a, S::select(z_positive, a, S::sub(zero, a)))); };
+    auto face_t = [&](V, V bb, V c) { return S::select(y_major, S::select(y_positive, c, S::sub(zero, c)), S::sub(zero, bb)); };
+    auto face_m = [&](V a, V bb, V c) {
+      return S::select(x_major, S::select(x_positive, a, S::sub(zero, a)),
+                       S::select(y_major, S::select(y_positive, bb, S::sub(zero, bb)), S::select(z_positive, c, S::sub(zero, c))));
+    };
+    V major = face_m(wx, wy, wz);
+    V u = S::div(face_s(wx, wy, wz), major), v = S::div(face_t(wx, wy, wz), major);
+    V scale = S::div(S::set1(b.half_resolution), major);
+    auto texels = [&](V gx, V gy, V gz) {
+      V along = face_m(gx, gy, gz);
+      V ds = S::sub(face_s(gx, gy, gz), S::mul(u, along)), dt = S::sub(face_t(gx, gy, gz), S::mul(v, along));
+      return S::mul(S::sqrt(S::add(S::mul(ds, ds), S::mul(dt, dt))), scale);
+    };
+    V length_u = texels(ux, uy, uz), length_v = texels(vx, vy, vz);
+    V longer = S::max(length_u, length_v), shorter = S::min(length_u, length_v);
+    V width = b.anisotropic ? S::max(S::max(shorter, S::mul(longer, S::set1(1.0f / CubeFilter::kMaxAnisotropy))), one)
+                            : S::max(longer, one);
+    V reach = S::mul(S::set1(b.support_per_texel), width);
+    if (b.anisotropic) {
+      V offset = S::mul(half, S::sqrt(S::max(S::add(S::add(S::mul(ux, ux), S::mul(uy, uy)), S::mul(uz, uz)),
+                                             S::add(S::add(S::mul(vx, vx), S::mul(vy, vy)), S::mul(vz, vz)))));
+      reach = S::add(reach, S::select(S::less(offset, half), S::div(offset, S::sub(one, offset)), S::set1(4.0f)));
+    }
+    reach = S::add(S::mul(reach, S::set1(1.01f)), S::set1(1e-4f));
+    // Skipped only where the bound is a number below pi and every lit cone is beyond it.
+    V skip = S::and_not(S::unordered(length_u, length_v), S::less(reach, S::set1(3.0f)));
+    for (size_t k = 0; k < b.cone_count; ++k) {
+      const float* cone = b.cones + 4 * k;
+      V cx = S::sub(wx, S::set1(cone[0])), cy = S::sub(wy, S::set1(cone[1])), cz = S::sub(wz, S::set1(cone[2]));
+      V limit = S::add(reach, S::set1(cone[3] + 2e-4f));
+      skip = S::bit_and(skip, S::greater(S::add(S::add(S::mul(cx, cx), S::mul(cy, cy)), S::mul(cz, cz)), S::mul(limit, limit)));
+    }
+    S::store(b.keep + i, S::and_not(skip, one));
+  }
+}
+
+// Flattened: the lambdas of filtered_skip_lanes must be inlined into the AVX2 function, or they would be
+// compiled without AVX2 and pass its vectors in a different way (the psabi warning).
+__attribute__((flatten)) void filtered_skip_sse(const FilteredSkipBlock& block) { filtered_skip_lanes<Sse>(block); }
+CAUSTICBENCH_AVX2 __attribute__((flatten)) void filtered_skip_avx2(const FilteredSkipBlock& block) {
+  filtered_skip_lanes<Avx2>(block);
+}
+
+void filtered_skip(const FilteredSkipBlock& block) {
+  static const bool has_avx2 = __builtin_cpu_supports("avx2");
+  if (has_avx2) {
+    filtered_skip_avx2(block);
+  } else {
+    filtered_skip_sse(block);
   }
 }
 
@@ -462,16 +564,44 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
     });
     return result;
   }
+  // Differential point samples: the points p + r u, p + r v and their normals n + r dn/du, n + r dn/dv
+  // (normalised) depend on the sample only; made once here rather than for every pixel.
+  std::vector<Vec3> moved_positions, moved_normals;
+  if (filtered) {
+    for (const ReflectorSample& sample : samples) {
+      moved_positions.insert(moved_positions.end(), {sample.position + footprint_radius * sample.direction_u,
+                                                     sample.position + footprint_radius * sample.direction_v});
+      moved_normals.insert(moved_normals.end(), {glm::normalize(sample.normal + footprint_radius * sample.normal_derivative_u),
+                                                 glm::normalize(sample.normal + footprint_radius * sample.normal_derivative_v)});
+    }
+  }
+  // The vector pre-skip (filtered_skip_lanes) where the own filter looks up a compact light.
+  const bool prefilter = cube_filter_ && skip && !interaction.refract && !cube_filter_->lit_everywhere();
+  std::vector<std::vector<float>> moved_arrays(12, std::vector<float>(padded, 0.0f));
+  if (prefilter) {
+    for (int k = 0; k < 2; ++k) std::fill(moved_arrays[3 * k + 2].begin(), moved_arrays[3 * k + 2].end(), 1e6f);
+    for (size_t i = 0; i < count; ++i) {
+      for (int k = 0; k < 2; ++k) {
+        for (int c = 0; c < 3; ++c) {
+          moved_arrays[3 * k + c][i] = moved_positions[2 * i + k][c];
+          moved_arrays[6 + 3 * k + c][i] = moved_normals[2 * i + k][c];
+        }
+      }
+    }
+  }
+  const std::vector<float> cone_data = prefilter ? cube_filter_->lit_cone_data() : std::vector<float>();
   parallel_blocks(gbuffer.pixel_count(), 64, [&](size_t begin, size_t end, size_t) {
+    constexpr size_t kBlock = 256;
+    alignas(32) float keep[kBlock];
     for (size_t pixel = begin; pixel < end; ++pixel) {
       if (!gbuffer.receiver[pixel]) continue;
       const Vec3 x = gbuffer.position[pixel], receiver_normal = gbuffer.normal[pixel];
       Color sum(0.0f);
-      for (size_t i = 0; i < count; ++i) {
+      auto evaluate = [&](size_t i) {
         Vec3 offset(px[i] - x.x, py[i] - x.y, pz[i] - x.z);
         float distance2 = glm::dot(offset, offset);
         float cos_receiver_scaled = glm::dot(receiver_normal, offset);
-        if (cos_receiver_scaled <= 0.0f) continue;  // back-face culling at the receiver, before any root
+        if (cos_receiver_scaled <= 0.0f) return;  // back-face culling at the receiver, before any root
         const ReflectorSample& sample = samples[i];
         Vec3 direction = offset * (1.0f / std::sqrt(distance2));
         float cos_receiver = glm::dot(receiver_normal, direction);
@@ -480,18 +610,16 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
         float cos_sample;
         if (!light_direction(direction, Vec3(nx[i], ny[i], nz[i]), sample.two_sided, material.ior, interaction.refract,
                              to_light, cos_sample)) {
-          continue;
+          return;
         }
         Color radiance;
         if (filtered) {
           // Differential point sample: reflection (or refraction) directions at p + r u and p + r v
           // with the normals n + r dn/du and n + r dn/dv give the footprint's two gradients.
           Vec3 gradients[2];
-          const Vec3 axes[2] = {sample.direction_u, sample.direction_v};
-          const Vec3 derivatives[2] = {sample.normal_derivative_u, sample.normal_derivative_v};
           for (int k = 0; k < 2; ++k) {
-            Vec3 moved = sample.position + footprint_radius * axes[k] - x;
-            Vec3 moved_normal = glm::normalize(sample.normal + footprint_radius * derivatives[k]);
+            Vec3 moved = moved_positions[2 * i + k] - x;
+            const Vec3& moved_normal = moved_normals[2 * i + k];
             Vec3 moved_light;
             float unused_cos;
             gradients[k] = light_direction(glm::normalize(moved), moved_normal, sample.two_sided, material.ior,
@@ -504,9 +632,24 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
         } else {
           radiance = cube_map_.lookup(to_light);
         }
-        if (radiance.r + radiance.g + radiance.b <= 0.0f) continue;
+        if (radiance.r + radiance.g + radiance.b <= 0.0f) return;
         float geometry = attenuation ? cos_sample * cos_receiver / (distance2 + epsilon) : 1.0f;
         sum += radiance * light_throughput(material, interaction, cos_sample) * (geometry * sample.area);
+      };
+      if (!prefilter) {
+        for (size_t i = 0; i < count; ++i) evaluate(i);
+      } else {
+        for (size_t first = 0; first < count; first += kBlock) {
+          size_t n = std::min(kBlock, count - first);
+          FilteredSkipBlock block{(n + 7) / 8 * 8, &px[first], &py[first], &pz[first], &nx[first], &ny[first], &nz[first],
+                                  {}, x, cone_data.data(), cone_data.size() / 4, cube_filter_->support_per_texel(),
+                                  0.5f * static_cast<float>(cube_filter_->level_size(0)), anisotropic, keep};
+          for (int k = 0; k < 12; ++k) block.moved[k] = &moved_arrays[k][first];
+          filtered_skip(block);
+          for (size_t j = 0; j < n; ++j) {
+            if (keep[j] != 0.0f) evaluate(first + j);
+          }
+        }
       }
       result.set_rgb(pixel, sum);
     }
