@@ -194,24 +194,18 @@ CAUSTICBENCH_AVX2 __attribute__((flatten)) void filtered_skip_avx2(const Filtere
   filtered_skip_lanes<Avx2>(block);
 }
 
+// The AVX2 version where the processor has it (checked once), the SSE2 one otherwise.
+bool has_avx2() {
+  static const bool available = __builtin_cpu_supports("avx2");
+  return available;
+}
+
 }  // namespace
 
 void reflection_block(const ReflectionBlock& block) {
-  static const bool has_avx2 = __builtin_cpu_supports("avx2");
-  if (has_avx2) {
-    reflection_block_avx2(block);
-  } else {
-    reflection_block_sse(block);
-  }
+  has_avx2() ? reflection_block_avx2(block) : reflection_block_sse(block);
 }
 
-void filtered_skip(const FilteredSkipBlock& block) {
-  static const bool has_avx2 = __builtin_cpu_supports("avx2");
-  if (has_avx2) {
-    filtered_skip_avx2(block);
-  } else {
-    filtered_skip_sse(block);
-  }
-}
+void filtered_skip(const FilteredSkipBlock& block) { has_avx2() ? filtered_skip_avx2(block) : filtered_skip_sse(block); }
 
 }  // namespace causticbench
