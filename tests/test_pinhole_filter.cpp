@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+
+#include <unistd.h>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -254,4 +257,25 @@ objects:
       EXPECT_EQ(vulkan.method_record["gpu_sampler_warning"], "");
     }
   }
+}
+
+TEST(PinholeCubeFilter, GpubenchReplaysAFilteredDump) {
+  // A CPU run's --dump-frame carries the own filter's levels, so that causticbench-gpubench replays the
+  // filtered frame with the same filter and gpu-compare finds it equal to the CPU's image.
+  namespace fs = std::filesystem;
+  fs::path folder = fs::temp_directory_path() / fmt::format("causticbench_filtered_dump_{}", getpid());
+  fs::remove_all(folder);
+  std::string output, dump = (folder / "dump").string();
+  int code = causticbench::testing::run_command(
+      std::string(CAUSTICBENCH_BINARY) + " -q render " + CAUSTICBENCH_SCENES + "/ring.yaml --method pinhole --set samples=300 " +
+          "--set filtering=anisotropic --set environment_resolution=64 --resolution 32x32 --out " + (folder / "out").string() +
+          " --dump-frame " + dump,
+      output);
+  ASSERT_EQ(code, 0) << output;
+  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_GPUBENCH) + " " + dump + " --repetitions 1", output);
+  ASSERT_EQ(code, 0) << output;
+  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
+  EXPECT_EQ(code, 0) << output;
+  EXPECT_NE(output.find("): agree"), std::string::npos) << output;
+  fs::remove_all(folder);
 }

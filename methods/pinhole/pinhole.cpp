@@ -475,6 +475,8 @@ void PinholeMethod::dump_frame(const GBuffer& gbuffer, const ParamSet& params, c
                                const std::string& folder) const {
   PinholeFrameData frame = frame_data_;
   fill_receivers(gbuffer, params, frame);
+  // The CPU backend keeps the own filter's levels in cube_filter_ only; a replay needs them.
+  if (frame.own_filter && frame.filter_levels.empty() && cube_filter_) frame.filter_levels = cube_filter_->texels();
   // First, so that a folder that held another method's dump names pinhole before pinhole's files land.
   write_dump_method(folder, "pinhole");
   write_frame_data(frame, folder);
