@@ -15,12 +15,13 @@ void write_frame_data(const PinholeFrameData& frame, const std::string& folder) 
   write_floats(folder + "/materials.bin", frame.materials);
   write_floats(folder + "/cube_map.bin", frame.cube_map);
   write_floats(folder + "/differentials.bin", frame.differentials);
+  if (frame.own_filter) write_floats(folder + "/filter_levels.bin", frame.filter_levels);
   std::ostringstream text;
   text.precision(9);
   text << "width " << frame.width << "\nheight " << frame.height << "\nresolution " << frame.resolution << "\nepsilon "
        << frame.epsilon << "\narea " << frame.area << "\nattenuation " << frame.attenuation << "\nfresnel "
        << frame.fresnel << "\nrefraction " << frame.refraction << "\nfiltering " << frame.filtering
-       << "\nfootprint_radius " << frame.footprint_radius << "\n";
+       << "\nfootprint_radius " << frame.footprint_radius << "\nown_filter " << frame.own_filter << "\n";
   // Last: its presence marks a complete frame.
   write_dump_bytes(folder + "/frame.txt", text.str().data(), text.str().size());
 }
@@ -47,6 +48,9 @@ PinholeFrameData read_frame_data(const std::string& folder) {
   frame.refraction = static_cast<uint32_t>(values["refraction"]);
   frame.filtering = static_cast<uint32_t>(values["filtering"]);
   frame.footprint_radius = static_cast<float>(values["footprint_radius"]);
+  // Optional: dumps from before the own filter used the device's sampler.
+  frame.own_filter = values.count("own_filter") ? static_cast<uint32_t>(values["own_filter"]) : 0u;
+  if (frame.own_filter) frame.filter_levels = read_floats(folder + "/filter_levels.bin");
   frame.receiver_positions = read_floats(folder + "/receiver_positions.bin");
   frame.receiver_normals = read_floats(folder + "/receiver_normals.bin");
   frame.sample_positions = read_floats(folder + "/sample_positions.bin");

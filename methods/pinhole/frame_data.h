@@ -27,6 +27,10 @@ struct PinholeFrameData {
   uint32_t attenuation = 1, fresnel = 1, refraction = 0;
   uint32_t filtering = 0;  // 0 none, 1 isotropic, 2 anisotropic
   float footprint_radius = 0.0f;  // r of the differential point samples
+  // When filtering: 1 for the method's own filter on `filter_levels` (CubeFilter::texels()), 0 for the
+  // device's textureGrad on a cube texture made from cube_map.
+  uint32_t own_filter = 0;
+  std::vector<float> filter_levels;
 
   uint32_t pixel_count() const { return width * height; }
   bool is_receiver(uint32_t pixel) const { return receiver_positions[4ull * pixel + 3] != 0.0f; }

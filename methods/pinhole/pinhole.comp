@@ -22,13 +22,101 @@ layout(push_constant) uniform Parameters {
   uint fresnel;
   uint refraction;
   float footprint_radius;
+  uint filtering;  // 1 isotropic, 2 anisotropic (the own filter; the hardware sampler is made for one)
 } p;
 
-#ifdef FILTERED
+#if defined(FILTERED) || defined(OWN_FILTER)
 // Differential point samples (Section 3.3): per sample the two principal directions and the normal's
-// derivative along each; the light map as a mip-mapped cube texture for textureGrad.
+// derivative along each.
 layout(std430, binding = 7) readonly buffer Differentials { vec4 differential[]; };
+#endif
+#ifdef FILTERED
+// The light map as a mip-mapped cube texture for textureGrad (filter_implementation: hardware).
 layout(binding = 8) uniform samplerCube light_map;
+#endif
+#ifdef OWN_FILTER
+// The method's own filter (methods/pinhole/cube_filter.cpp, README "The filter"), probe by probe on the
+// same texels: CubeFilter::texels(), every level's faces with a border of one texel, RGB.
+layout(std430, binding = 8) readonly buffer FilterLevels { float level_texel[]; };
+int level_count;
+int level_size[16];
+uint level_offset[16];
+
+void setup_levels() {
+  int size = p.resolution;
+  uint offset = 0u;
+  level_count = 0;
+  for (int k = 0; k < 16; ++k) {
+    level_size[k] = size;
+    level_offset[k] = offset;
+    level_count = k + 1;
+    offset += uint(6 * (size + 2) * (size + 2) * 3);
+    if (size == 1) break;
+    size = max(1, size / 2);
+  }
+}
+
+const vec3 face_s[6] = vec3[6](vec3(0, 0, -1), vec3(0, 0, 1), vec3(1, 0, 0), vec3(1, 0, 0), vec3(1, 0, 0), vec3(-1, 0, 0));
+const vec3 face_t[6] = vec3[6](vec3(0, -1, 0), vec3(0, -1, 0), vec3(0, 0, 1), vec3(0, 0, -1), vec3(0, -1, 0), vec3(0, -1, 0));
+const vec3 face_m[6] = vec3[6](vec3(1, 0, 0), vec3(-1, 0, 0), vec3(0, 1, 0), vec3(0, -1, 0), vec3(0, 0, 1), vec3(0, 0, -1));
+
+int face_of(vec3 d) {
+  vec3 a = abs(d);
+  if (a.x >= a.y && a.x >= a.z) return d.x > 0.0 ? 0 : 1;
+  if (a.y >= a.z) return d.y > 0.0 ? 2 : 3;
+  return d.z > 0.0 ? 4 : 5;
+}
+
+vec3 level_fetch(uint at) { return vec3(level_texel[at], level_texel[at + 1u], level_texel[at + 2u]); }
+
+vec3 filter_bilinear(int level, vec3 d) {
+  int size = level_size[level];
+  int face = face_of(d);
+  float major = dot(face_m[face], d);
+  float resolution = float(size);
+  float scale = 0.5 * resolution / major;
+  float s = dot(face_s[face], d) * scale + 0.5 * resolution, t = dot(face_t[face], d) * scale + 0.5 * resolution;
+  float fx = min(max(s - 0.5, -1.0), resolution - 0.5), fy = min(max(t - 0.5, -1.0), resolution - 0.5);
+  float x0 = floor(fx), y0 = floor(fy);
+  float wx = fx - x0, wy = fy - y0;
+  int side = size + 2;
+  uint at = level_offset[level] + uint(((face * side + int(y0) + 1) * side + int(x0) + 1) * 3);
+  uint row = uint(side * 3);
+  return mix(mix(level_fetch(at), level_fetch(at + 3u), wx), mix(level_fetch(at + row), level_fetch(at + row + 3u), wx), wy);
+}
+
+vec3 filter_trilinear(vec3 d, float level) {
+  int finer = int(level);
+  float fraction = level - float(finer);
+  vec3 result = filter_bilinear(finer, d);
+  if (fraction > 0.0 && finer + 1 < level_count) result = mix(result, filter_bilinear(finer + 1, d), fraction);
+  return result;
+}
+
+vec3 own_filter(vec3 d, vec3 gradient_u, vec3 gradient_v) {
+  int face = face_of(d);
+  float major = dot(face_m[face], d);
+  float u = dot(face_s[face], d) / major, v = dot(face_t[face], d) / major;
+  float half_size = 0.5 * float(p.resolution) / major;
+  float along = dot(face_m[face], gradient_u);
+  vec2 texels_u = vec2(dot(face_s[face], gradient_u) - u * along, dot(face_t[face], gradient_u) - v * along) * half_size;
+  along = dot(face_m[face], gradient_v);
+  vec2 texels_v = vec2(dot(face_s[face], gradient_v) - u * along, dot(face_t[face], gradient_v) - v * along) * half_size;
+  float length_u = sqrt(dot(texels_u, texels_u)), length_v = sqrt(dot(texels_v, texels_v));
+  float top = float(level_count - 1);
+  if (p.filtering == 1u) return filter_trilinear(d, min(log2(max(max(length_u, length_v), 1.0)), top));
+  bool u_longer = length_u >= length_v;
+  float longer = max(length_u, length_v), shorter = min(length_u, length_v);
+  float ratio = min(ceil(longer / max(shorter, 1.0)), 16.0);
+  int count = ratio >= 1.0 ? int(ratio) : 1;
+  float level = min(log2(max(max(shorter, longer / float(count)), 1.0)), top);
+  if (count == 1) return filter_trilinear(d, level);
+  vec3 edge = u_longer ? gradient_u : gradient_v;
+  vec3 step = edge / float(count), first = edge * (0.5 / float(count) - 0.5);
+  vec3 sum = vec3(0.0);
+  for (int i = 0; i < count; ++i) sum += filter_trilinear(d + first + float(i) * step, level);
+  return sum * (1.0 / float(count));
+}
 #endif
 
 float fresnel_dielectric(float cos_incident, float eta) {
@@ -117,6 +205,9 @@ void main() {
     return;
   }
   vec3 x = receiver.xyz, receiver_n = receiver_normal[pixel].xyz;
+#ifdef OWN_FILTER
+  setup_levels();
+#endif
   vec3 sum = vec3(0.0);
   for (uint i = 0u; i < p.sample_count; ++i) {
     vec4 position = sample_position[i];
@@ -131,7 +222,7 @@ void main() {
     vec3 to_light;
     float cos_sample;
     if (!light_direction(direction, normal_and_material.xyz, position.w >= 0.5, m1.w, to_light, cos_sample)) continue;
-#ifdef FILTERED
+#if defined(FILTERED) || defined(OWN_FILTER)
     // The footprint's gradients: light directions at p + r u and p + r v with normals n + r dn/du, n + r dn/dv.
     vec3 gradient[2];
     for (int k = 0; k < 2; ++k) {
@@ -142,7 +233,11 @@ void main() {
       gradient[k] = light_direction(normalize(moved), moved_normal, position.w >= 0.5, m1.w, moved_light, unused)
                         ? moved_light - to_light : vec3(0.0);
     }
+#ifdef OWN_FILTER
+    vec3 radiance = own_filter(to_light, gradient[0], gradient[1]);
+#else
     vec3 radiance = textureGrad(light_map, to_light, gradient[0], gradient[1]).rgb;
+#endif
 #else
     vec3 radiance = cube_lookup(to_light);
 #endif

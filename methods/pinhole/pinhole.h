@@ -42,7 +42,9 @@ class PinholeMethod : public CausticMethod {
   float table_error_ = 0.0f;
   LightCubeMap cube_map_;
   std::unique_ptr<DistantLights> cube_map_lights_;  // the lights cube_map_ was built from
-  std::unique_ptr<FilteredLightMap> filtered_map_;
+  std::string filter_implementation_;  // "" when not filtering
+  std::unique_ptr<FilteredLightMap> filtered_map_;        // filter_implementation: oiio
+  std::unique_ptr<class CubeFilter> cube_filter_;         // filter_implementation: own (CPU)
   double evaluations_ = 0.0;
   // The per-frame GPU inputs (samples, materials, cube map); receivers are added at render time.
   PinholeFrameData frame_data_;

@@ -10,6 +10,9 @@ const uint32_t kPinholeSpirv[] =
 const uint32_t kPinholeFilteredSpirv[] =
 #include "pinhole_filtered.spv.inc"
     ;
+const uint32_t kPinholeOwnFilterSpirv[] =
+#include "pinhole_own_filter.spv.inc"
+    ;
 
 struct Parameters {
   uint32_t pixel_count, sample_count;
@@ -17,6 +20,7 @@ struct Parameters {
   float epsilon, area;
   uint32_t attenuation, fresnel, refraction;
   float footprint_radius;
+  uint32_t filtering;
 };
 
 // The mip pyramid of a cube map (RGB per texel in, RGBA out): each level averages 2 x 2 texels of the
@@ -65,7 +69,9 @@ VulkanPinhole::VulkanPinhole(gpu::Context& context)
     : context_(context),
       pipeline_(std::make_unique<gpu::ComputePipeline>(context, kPinholeSpirv, sizeof(kPinholeSpirv), 7, sizeof(Parameters))),
       filtered_pipeline_(std::make_unique<gpu::ComputePipeline>(context, kPinholeFilteredSpirv, sizeof(kPinholeFilteredSpirv), 8,
-                                                                sizeof(Parameters), 1)) {}
+                                                                sizeof(Parameters), 1)),
+      own_filter_pipeline_(std::make_unique<gpu::ComputePipeline>(context, kPinholeOwnFilterSpirv, sizeof(kPinholeOwnFilterSpirv),
+                                                                  9, sizeof(Parameters))) {}
 
 VulkanPinhole::~VulkanPinhole() = default;
 
@@ -78,7 +84,9 @@ void VulkanPinhole::upload_samples(const PinholeFrameData& frame) {
 
 void VulkanPinhole::upload_light_map(const PinholeFrameData& frame) {
   put(context_, cube_map_, frame.cube_map);
-  if (frame.filtering != 0) {
+  if (frame.filtering != 0 && frame.own_filter) {
+    put(context_, filter_levels_, frame.filter_levels);
+  } else if (frame.filtering != 0) {
     texture_ = std::make_unique<gpu::CubeTexture>(context_, frame.resolution, cube_pyramid(frame.cube_map, frame.resolution),
                                                   frame.filtering == 2);
   }
@@ -90,11 +98,16 @@ std::vector<float> VulkanPinhole::render(const PinholeFrameData& frame, double& 
   size_t output_bytes = static_cast<size_t>(frame.pixel_count()) * 4 * sizeof(float);
   if (!output_ || output_->size() < output_bytes) output_ = std::make_unique<gpu::Buffer>(context_, output_bytes);
   Parameters parameters{frame.pixel_count(), frame.sample_count(), frame.resolution, frame.epsilon, frame.area,
-                        frame.attenuation, frame.fresnel, frame.refraction, frame.footprint_radius};
+                        frame.attenuation, frame.fresnel, frame.refraction, frame.footprint_radius, frame.filtering};
   uint32_t groups = (frame.pixel_count() + 63) / 64;
   std::vector<const gpu::Buffer*> buffers = {receiver_positions_.get(), receiver_normals_.get(), sample_positions_.get(),
                                              sample_normals_.get(), materials_.get(), cube_map_.get(), output_.get()};
-  if (frame.filtering != 0) {
+  if (frame.filtering != 0 && frame.own_filter) {
+    if (!filter_levels_) throw gpu::VulkanError("VulkanPinhole: upload a filtered frame before rendering it");
+    buffers.push_back(differentials_.get());
+    buffers.push_back(filter_levels_.get());
+    gpu_ms = own_filter_pipeline_->dispatch(buffers, &parameters, groups);
+  } else if (frame.filtering != 0) {
     if (!texture_) throw gpu::VulkanError("VulkanPinhole: upload a filtered frame before rendering it");
     buffers.push_back(differentials_.get());
     gpu_ms = filtered_pipeline_->dispatch(buffers, &parameters, groups, {texture_.get()});

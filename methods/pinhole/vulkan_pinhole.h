@@ -17,8 +17,9 @@ class VulkanPinhole {
   ~VulkanPinhole();
   // Uploads the reflector samples, their materials and, when filtering, their differentials.
   void upload_samples(const PinholeFrameData& frame);
-  // Uploads the light cube map and, when filtering, a mip-mapped cube texture of it whose levels are
-  // 2 x 2 box averages. Needed only when the map changes.
+  // Uploads the light cube map and, when filtering, the own filter's levels (frame.own_filter) or a
+  // mip-mapped cube texture for textureGrad whose levels are 2 x 2 box averages. Needed only when the
+  // map changes.
   void upload_light_map(const PinholeFrameData& frame);
   // Both.
   void upload_frame(const PinholeFrameData& frame) {
@@ -31,8 +32,8 @@ class VulkanPinhole {
 
  private:
   gpu::Context& context_;
-  std::unique_ptr<gpu::ComputePipeline> pipeline_, filtered_pipeline_;
-  std::unique_ptr<gpu::Buffer> sample_positions_, sample_normals_, materials_, cube_map_, differentials_;
+  std::unique_ptr<gpu::ComputePipeline> pipeline_, filtered_pipeline_, own_filter_pipeline_;
+  std::unique_ptr<gpu::Buffer> sample_positions_, sample_normals_, materials_, cube_map_, differentials_, filter_levels_;
   std::unique_ptr<gpu::CubeTexture> texture_;
   std::unique_ptr<gpu::Buffer> receiver_positions_, receiver_normals_, output_;
 };
