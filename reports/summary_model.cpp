@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <set>
 
 #include "core/errors.h"
@@ -15,8 +16,13 @@ namespace causticbench::report_detail {
 
 namespace {
 
-std::string scene_title(const Report& report, size_t variant) {
-  return report.multi() ? report.name + " @" + report.variants[variant].name : report.name;
+// The experiment's name, or its folder when another folder of the study holds an experiment of the
+// same name (two results folders compared); with " @variant" when it has several.
+std::string scene_title(const StudySummary& summary, const Report& report, size_t variant) {
+  size_t same = std::count_if(summary.experiments.begin(), summary.experiments.end(),
+                              [&](const Report& other) { return other.name == report.name; });
+  std::string base = same > 1 ? report.folder.string() : report.name;
+  return report.multi() ? base + " @" + report.variants[variant].name : base;
 }
 
 void widen(std::optional<double>& low, std::optional<double>& high, std::optional<double> value) {
@@ -142,7 +148,7 @@ StudySummary summarize_study(const std::vector<std::string>& folders) {
       bool any = std::any_of(report.runs.begin(), report.runs.end(),
                              [&](const Run& run) { return run.variant_index == v && !run.stale; });
       if (!any) continue;
-      summary.scenes.push_back({e, v, scene_title(report, v), string_member(report.experiment, "scene")});
+      summary.scenes.push_back({e, v, scene_title(summary, report, v), string_member(report.experiment, "scene")});
     }
   }
 

@@ -237,6 +237,15 @@ TEST_F(SummarizeTest, CostModelBreakEvenAndClaims) {
   EXPECT_FALSE(claims.at(0).at("evidence").get<std::string>().empty());
 }
 
+TEST_F(SummarizeTest, ExperimentsOfTheSameNameInTwoResultsFoldersAreTitledByFolder) {
+  fs::copy(results, root / "again", fs::copy_options::recursive);
+  const std::string first = (results / "study_mirror").string(), second = (root / "again" / "study_mirror").string();
+  const json summary = json::parse(read_text(write_summary({first, second}, (root / "out").string()).json));
+  ASSERT_EQ(summary.at("scenes").size(), 2u);
+  EXPECT_EQ(summary.at("scenes").at(0).at("title"), fs::path(first).lexically_normal().string());
+  EXPECT_EQ(summary.at("scenes").at(1).at("title"), fs::path(second).lexically_normal().string());
+}
+
 TEST_F(SummarizeTest, BadInputIsRefusedAndNothingIsWritten) {
   const fs::path out = root / "out";
   EXPECT_THROW(write_summary({(results / "study_mirror").string(), (root / "no_such").string()}, out.string()),
