@@ -21,26 +21,6 @@ std::string script_json(const json& value) {
   return out;
 }
 
-// The equal-time, equal-error and break-even tables of each variant.
-void views_html(std::string& out, const Report& report) {
-  if (!has_views(report)) return;
-  out += "<h2 id=\"views\">Equal time and equal error</h2>\n";
-  for (size_t v = 0; v < report.views.size(); ++v) {
-    if (report.views[v].points.empty()) continue;
-    std::string in = report.multi() ? " (variant " + html_escape(report.variants[v].name) + ")" : "";
-    out += "<h3>Equal time" + in + "</h3>\n";
-    html_table(out, equal_time_table(report, v));
-    out += "<h3>Equal error" + in + "</h3>\n";
-    html_table(out, equal_error_table(report, v));
-    Table breaks = break_even_table(report, v);
-    if (!breaks.rows.empty()) {
-      out += "<h3>Break-even" + in + "</h3>\n";
-      html_table(out, breaks);
-    }
-  }
-  out += "<p class=\"caption\">" + html_escape(views_caption(report)) + "</p>\n";
-}
-
 }  // namespace
 
 void html_table(std::string& out, const Table& table) {
@@ -80,6 +60,30 @@ void html_table(std::string& out, const Table& table) {
   for (const std::string& note : notes) out += "<li>undefined: " + html_escape(note) + "</li>";
   out += "</ol>\n";
 }
+
+namespace {
+
+// The equal-time, equal-error and break-even tables of each variant.
+void views_html(std::string& out, const Report& report) {
+  if (!has_views(report)) return;
+  out += "<h2 id=\"views\">Equal time and equal error</h2>\n";
+  for (size_t v = 0; v < report.views.size(); ++v) {
+    if (report.views[v].points.empty()) continue;
+    std::string in = report.multi() ? " (variant " + html_escape(report.variants[v].name) + ")" : "";
+    out += "<h3>Equal time" + in + "</h3>\n";
+    html_table(out, equal_time_table(report, v));
+    out += "<h3>Equal error" + in + "</h3>\n";
+    html_table(out, equal_error_table(report, v));
+    Table breaks = break_even_table(report, v);
+    if (!breaks.rows.empty()) {
+      out += "<h3>Break-even" + in + "</h3>\n";
+      html_table(out, breaks);
+    }
+  }
+  out += "<p class=\"caption\">" + html_escape(views_caption(report)) + "</p>\n";
+}
+
+}  // namespace
 
 std::string html_document(const Report& report) {
   std::string out;
