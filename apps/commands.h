@@ -50,6 +50,9 @@ int run_slurm(const SlurmOptions& options);
 // Exit code 0 when every run is stored, 3 when runs are pending.
 int run_status(const std::string& folder);
 int run_report(const std::string& folder, bool recompute_metrics = false);
+// `causticbench summarize`: the study's summary across experiment folders, into `out` (empty: the first
+// folder's parent).
+int run_summarize(const std::vector<std::string>& folders, const std::string& out);
 int run_gpu_compare(const std::string& folder);
 int run_list();
 int run_describe(const std::string& method, bool markdown);

@@ -11,6 +11,7 @@
 #include "experiments/shard_plan.h"
 #include "experiments/sweep_status.h"
 #include "reports/report.h"
+#include "reports/summary.h"
 
 namespace causticbench {
 
@@ -62,6 +63,21 @@ int run_report(const std::string& folder, bool recompute_metrics) {
   ReportSummary report = write_report(folder);
   fmt::print("report: {} ({} runs, {} failed)\n", report.html, report.runs, report.failed);
   fmt::print("also: {}, {}, {}\n", report.markdown, report.csv, report.json);
+  return 0;
+}
+
+int run_summarize(const std::vector<std::string>& folders, const std::string& out) {
+  std::string target = out;
+  if (target.empty() && !folders.empty()) {
+    std::filesystem::path first = std::filesystem::path(folders.front()).lexically_normal();
+    if (!first.has_filename()) first = first.parent_path();  // "results/study_ring/"
+    target = first.has_parent_path() ? first.parent_path().string() : ".";
+  }
+  SummaryFiles summary = write_summary(folders, target);
+  fmt::print("summary: {} ({} experiments, {} scenes, {} claims: {} confirmed, {} not confirmed)\n", summary.html,
+             summary.experiments, summary.scenes, summary.claims, summary.claims_confirmed, summary.claims_not_confirmed);
+  for (const std::string& line : summary.headlines) fmt::print("  {}\n", line);
+  fmt::print("also: {}, {}\n", summary.markdown, summary.json);
   return 0;
 }
 

@@ -85,6 +85,18 @@ int main(int argc, char** argv) {
                            "first compute every metric of experiment.json again from the stored images (after a metric\n"
                            "was added or fixed), rewriting each run's record atomically; no method is run");
 
+  std::vector<std::string> summarize_folders;
+  std::string summarize_out;
+  CLI::App* summarize_command = app.add_subcommand(
+      "summarize", "Write one page across several experiments (a study, e.g. RESULTS/study_*): summary.html, summary.md\n"
+                   "and summary.json with, per scene, the best method and knobs per frame budget; per method, where it\n"
+                   "wins and where it fails; the cost model (prepare s, memory, frame ms) with break-even frame counts;\n"
+                   "and every claim with its verdict (docs/reports.md, \"The study's summary\").");
+  summarize_command->add_option("folders", summarize_folders, "experiments' results folders, RESULTS/<experiment>")
+      ->required();
+  summarize_command->add_option("-o,--out", summarize_out,
+                                "folder for the three files (default: the folder holding the first experiment's, RESULTS)");
+
   SlurmOptions slurm;
   CLI::App* slurm_command = app.add_subcommand(
       "slurm", "Write Slurm jobs for sweeps on a cluster sharing RESULTS (docs/cluster.md): per experiment, under\n"
@@ -142,6 +154,7 @@ int main(int argc, char** argv) {
     if (*render_command) return run_render(render);
     if (*run_command) return run_experiment_command(experiment);
     if (*report_command) return run_report(report_folder, recompute_metrics);
+    if (*summarize_command) return run_summarize(summarize_folders, summarize_out);
     if (*slurm_command) return run_slurm(slurm);
     if (*status_command) return run_status(status_folder);
     if (*compare_command) return run_gpu_compare(compare_folder);

@@ -31,18 +31,18 @@ std::vector<std::string> variant_methods(const Report& report, size_t variant) {
   return methods;
 }
 
+std::string heading(const Report& report, size_t variant) {
+  return report.multi() ? " (" + report.variants[variant].name + ")" : "";
+}
+
+}  // namespace
+
 std::string knobs_of(const Run& run) {
   std::string text = run.swept_text();
   return text.empty() ? "its defaults" : text;
 }
 
 std::string budget_text(double ms) { return ms >= 1000.0 ? num(ms / 1000.0) + " s" : num(ms) + " ms"; }
-
-std::string heading(const Report& report, size_t variant) {
-  return report.multi() ? " (" + report.variants[variant].name + ")" : "";
-}
-
-}  // namespace
 
 void compute_views(Report& report) {
   const ErrorBetter better = error_better(report);

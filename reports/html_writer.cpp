@@ -21,6 +21,8 @@ std::string script_json(const json& value) {
   return out;
 }
 
+}  // namespace
+
 void html_table(std::string& out, const Table& table) {
   out += "<div class=\"scroll\"><table><thead><tr>";
   for (size_t c = 0; c < table.header.size(); ++c) {
@@ -58,6 +60,8 @@ void html_table(std::string& out, const Table& table) {
   for (const std::string& note : notes) out += "<li>undefined: " + html_escape(note) + "</li>";
   out += "</ol>\n";
 }
+
+namespace {
 
 // The equal-time, equal-error and break-even tables of each variant.
 void views_html(std::string& out, const Report& report) {

@@ -9,8 +9,6 @@
 
 namespace causticbench::report_detail {
 
-namespace {
-
 void markdown_table(std::string& out, const Table& table) {
   out += "|";
   for (const std::string& name : table.header) out += " " + md_escape(name) + " |";
@@ -36,6 +34,8 @@ void markdown_table(std::string& out, const Table& table) {
   for (size_t n = 0; n < notes.size(); ++n) out += fmt::format("- [{}] undefined: {}\n", n + 1, md_escape(notes[n]));
   if (!notes.empty()) out += "\n";
 }
+
+namespace {
 
 // The equal-time, equal-error and break-even tables of each variant.
 void views_markdown(std::string& out, const Report& report) {

@@ -73,8 +73,18 @@ Table break_even_table(const Report& report, size_t variant);
 // Whether some variant has a point to compare, and what the three tables mean (plain text).
 bool has_views(const Report& report);
 std::string views_caption(const Report& report);
+// A run's swept knobs as a person reads them ("its defaults" when none was swept), and a frame budget
+// ("16.7 ms", "10 s"): how the views and the study's summary name them.
+std::string knobs_of(const Run& run);
+std::string budget_text(double ms);
 // "Within 16.7 ms: ..." per budget (and variant): the summary's lines.
 std::vector<std::string> budget_lines(const Report& report);
+
+// A table in Markdown (markdown_writer.cpp) or HTML (html_writer.cpp), with the footnotes of its
+// undefined cells and the best of each column marked; appended to `out`. The report and the study's
+// summary (summary_documents.cpp) both lay their tables out with these.
+void markdown_table(std::string& out, const Table& table);
+void html_table(std::string& out, const Table& table);
 
 // The distinct reasons of a table's undefined cells, in the order they first appear: its footnotes.
 std::vector<std::string> undefined_notes(const Table& table);

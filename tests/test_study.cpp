@@ -1,0 +1,119 @@
+// The study's experiments (configs/experiments/study_*.yaml, issue 14): each validates, compares several
+// methods on the trade-off axes the study needs, and its cheapest setting of every method runs end to
+// end at a tiny resolution, after which `causticbench summarize` reads them all. The cheapest setting is
+// each method's first run (the ladders are written cheapest first); the tiny copy differs from the file
+// only in its one-line overrides, reference, repetitions and (an animated study) frames.
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "experiments/experiment.h"
+#include "tests/test_support.h"
+
+namespace causticbench {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::vector<fs::path> study_files() {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(std::string(CAUSTICBENCH_SCENES) + "/../experiments"))
+    if (entry.path().extension() == ".yaml" && entry.path().filename().string().rfind("study_", 0) == 0)
+      files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The study at 24 x 24 with a two-pass reference, one repetition and at most three frames; the scene
+// named by absolute path.
+std::string tiny_copy(const std::string& text) {
+  std::string tiny = std::regex_replace(text, std::regex("\nscene: \\.\\./scenes/"),
+                                        "\nscene: " + std::string(CAUSTICBENCH_SCENES) + "/");
+  const std::pair<const char*, const char*> lines[] = {
+      {"\noverrides: [^\n]*", "\noverrides: {resolution: [24, 24]}"},
+      {"\nreference: [^\n]*", "\nreference: {photons_per_pass: 100000, max_passes: 2, target_noise_floor: 0}"},
+      {"\nrepetitions: [^\n]*", "\nrepetitions: 1"}};
+  for (const auto& [pattern, replacement] : lines) {
+    std::regex expression(pattern);
+    EXPECT_TRUE(std::regex_search(tiny, expression)) << "the study file has no one-line " << pattern;
+    tiny = std::regex_replace(tiny, expression, replacement);
+  }
+  // An animated study: its first three frames, enough for temporal flicker.
+  return std::regex_replace(tiny, std::regex("\nframes: [^\n]*"), "\nframes: {first: 0, count: 3}");
+}
+
+TEST(Study, EveryStudyValidatesAndComparesMethodsOnTimeMemoryAndPrecomputation) {
+  const std::vector<fs::path> files = study_files();
+  ASSERT_GE(files.size(), 2u);
+  for (const fs::path& file : files) {
+    Experiment experiment = load_experiment(file.string());
+    std::map<std::string, size_t> runs_per_method;
+    for (const RunSpec& run : experiment.runs) ++runs_per_method[run.method];
+    EXPECT_GE(runs_per_method.size(), 3u) << file;
+    for (const auto& [method, runs] : runs_per_method) EXPECT_GE(runs, 2u) << file << ": " << method << " has no ladder";
+    std::vector<std::string> axes;
+    for (const auto& [x, y] : experiment.report.tradeoffs) {
+      EXPECT_EQ(y, experiment.primary_metric) << file;
+      axes.push_back(x);
+    }
+    EXPECT_EQ(axes, (std::vector<std::string>{"frame_ms", "memory_bytes", "prepare_seconds"})) << file;
+    EXPECT_NE(experiment.primary_metric, "relmse") << file << ": see the studies' header comments";
+  }
+}
+
+TEST(Study, CheapestSettingOfEveryMethodRunsEndToEndAndIsSummarized) {
+  testing::TemporaryFolder folder("study_end_to_end");
+  const std::string results = folder.path("results");
+  std::vector<std::string> experiment_folders;
+  for (const fs::path& file : study_files()) {
+    const std::string tiny = folder.write(file.filename().string(), tiny_copy(read_text(file)));
+    Experiment experiment = load_experiment(tiny);
+    std::map<std::string, const RunSpec*> cheapest;  // the first run of each method
+    for (const RunSpec& run : experiment.runs) cheapest.emplace(run.method, &run);
+    for (const auto& [method, run] : cheapest) {
+      std::string filter = "method=" + method;
+      for (const auto& [knob, value] : run->swept) filter += "," + knob + "=" + value;
+      std::string output;
+      int code = testing::run_command(std::string(CAUSTICBENCH_BINARY) + " -q run " + tiny + " --results " + results +
+                                          " --no-report --filter '" + filter + "'",
+                                      output);
+      ASSERT_EQ(code, 0) << file << " " << filter << "\n" << output;
+      EXPECT_NE(output.find("1 selected"), std::string::npos) << output;
+      const fs::path record_path = fs::path(results) / experiment.name / "runs" / run->key / "record.json";
+      ASSERT_TRUE(fs::is_regular_file(record_path)) << record_path;
+      const json record = json::parse(read_text(record_path));
+      // A method may stop with a clear error on a scene it cannot model; a crash or a silent NaN may not.
+      if (record.at("status") == "ok") {
+        EXPECT_TRUE(record.at("metrics").contains(experiment.primary_metric)) << record_path;
+        EXPECT_EQ(record.at("metrics").value("nonfinite_pixels", 0.0), 0.0) << record_path;
+      } else {
+        EXPECT_FALSE(record.value("error", "").empty()) << record_path;
+      }
+    }
+    experiment_folders.push_back(fs::path(results) / experiment.name);
+  }
+  std::string output, command = std::string(CAUSTICBENCH_BINARY) + " summarize";
+  for (const std::string& experiment : experiment_folders) command += " " + experiment;
+  ASSERT_EQ(testing::run_command(command + " --out " + folder.path("summary"), output), 0) << output;
+  const json summary = json::parse(read_text(folder.path("summary") + "/summary.json"));
+  EXPECT_EQ(summary.at("experiments").size(), experiment_folders.size());
+  for (const json& scene : summary.at("scenes")) EXPECT_FALSE(scene.at("budgets").empty()) << scene.dump();
+}
+
+}  // namespace
+}  // namespace causticbench
