@@ -198,19 +198,9 @@ TEST(PinholeLightMap, FilteredLookupsKeepACompactLightsIrradiance) {
     SceneFrame frame(scene, 0);
     DistantLights lights(frame, Vec3(0.0f));
     FilteredLightMap filtered(lights, 512);
-    Vec3 axis = glm::normalize(towards_light), tangent, bitangent;
-    orthonormal_basis(axis, tangent, bitangent);
-    const int steps = 240;
-    const double half_width = 0.05, step = 2.0 * half_width / steps;
-    double integral = 0.0;
-    for (int i = 0; i < steps; ++i) {
-      for (int j = 0; j < steps; ++j) {
-        double x = -half_width + (i + 0.5) * step, y = -half_width + (j + 0.5) * step;
-        Vec3 direction = glm::normalize(axis + static_cast<float>(x) * tangent + static_cast<float>(y) * bitangent);
-        double jacobian = std::pow(1.0 + x * x + y * y, -1.5);
-        integral += filtered.lookup(direction, Vec3(0.0f), Vec3(0.0f), true).r * step * step * jacobian;
-      }
-    }
+    const double integral = causticbench::testing::integrate_around(
+        glm::normalize(towards_light), 0.05, 240,
+        [&](const Vec3& direction) { return filtered.lookup(direction, Vec3(0.0f), Vec3(0.0f), true).r; });
     EXPECT_NEAR(integral, 3.0, 0.06) << "light towards " << towards_light.x << " " << towards_light.y << " " << towards_light.z;
   }
 }

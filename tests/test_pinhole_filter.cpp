@@ -123,17 +123,9 @@ TEST(PinholeCubeFilter, KeepsACompactLightsIrradiance) {
       const Vec3 gradient_v = along_v * texel * glm::normalize(bitangent - 0.3f * tangent);
       // Wide enough for the coarsest level read (footprints of 3 texels at the corner read level 3, whose
       // bilinear support reaches 16 level-0 texels, 0.5 rad).
-      const int steps = 300;
-      const double half_width = 0.8, step = 2.0 * half_width / steps;
-      double integral = 0.0;
-      for (int i = 0; i < steps; ++i) {
-        for (int j = 0; j < steps; ++j) {
-          double x = -half_width + (i + 0.5) * step, y = -half_width + (j + 0.5) * step;
-          Vec3 direction = glm::normalize(axis + static_cast<float>(x) * tangent + static_cast<float>(y) * bitangent);
-          double jacobian = std::pow(1.0 + x * x + y * y, -1.5);
-          integral += filter.lookup(direction, gradient_u, gradient_v, anisotropic).r * step * step * jacobian;
-        }
-      }
+      const double integral = causticbench::testing::integrate_around(axis, 0.8, 300, [&](const Vec3& direction) {
+        return filter.lookup(direction, gradient_u, gradient_v, anisotropic).r;
+      });
       EXPECT_NEAR(integral, 3.0, 0.06) << "light towards " << towards_light.x << " " << towards_light.y << " "
                                        << towards_light.z << ", footprint " << along_u << " x " << along_v
                                        << (anisotropic ? " anisotropic" : " isotropic");

@@ -1,6 +1,7 @@
 // Helpers shared by the tests: scenes from strings, running a method on a frame, image regions.
 #pragma once
 
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -57,6 +58,25 @@ double region_mean(const FrameResult& result, Predicate inside, size_t* count = 
   }
   if (count) *count = n;
   return n ? sum / static_cast<double>(n) : 0.0;
+}
+
+// The integral over solid angle of f(direction) across the square [-half_width, half_width]^2 of the
+// plane tangent to the unit sphere at `axis` (gnomonic: dω = dA / (1 + x² + y²)^{3/2}), by the
+// midpoint rule on steps x steps cells: what a light map's lookups around a compact light add up to.
+template <class Function>
+double integrate_around(const Vec3& axis, double half_width, int steps, Function f) {
+  Vec3 tangent, bitangent;
+  orthonormal_basis(axis, tangent, bitangent);
+  const double step = 2.0 * half_width / steps;
+  double integral = 0.0;
+  for (int i = 0; i < steps; ++i) {
+    for (int j = 0; j < steps; ++j) {
+      const double x = -half_width + (i + 0.5) * step, y = -half_width + (j + 0.5) * step;
+      const Vec3 direction = glm::normalize(axis + static_cast<float>(x) * tangent + static_cast<float>(y) * bitangent);
+      integral += f(direction) * step * step * std::pow(1.0 + x * x + y * y, -1.5);
+    }
+  }
+  return integral;
 }
 
 }  // namespace causticbench::testing
