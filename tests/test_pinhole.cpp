@@ -18,6 +18,7 @@
 #include "methods/pinhole/reflector_sampling.h"
 #include "methods/pinhole/texel_fetch.h"
 #include "methods/pinhole/throughput.h"
+#include "tests/pinhole_test_scenes.h"
 #include "tests/test_support.h"
 
 using namespace causticbench;
@@ -228,18 +229,7 @@ TEST(PinholeLightMap, StaleTextureFilesOfDeadProcessesAreRemoved) {
 
 namespace {
 
-// A mirror sphere above a floor under a wide light from above: one reflection, no occlusion of the
-// reflected light, so the pinhole method converges to the reference.
-const char* kMirrorSphere = R"(
-camera: {type: orthographic, position: [0, 5, 0.01], look_at: [0, 0, 0], view_height: 4, resolution: [32, 32]}
-lights: [{type: environment, procedural: gaussian_spot, direction: [0.4, -1, 0], irradiance: 1, solid_angle_sr: 0.2}]
-objects:
-  - shape: {type: quad, size: [8, 8]}
-    material: {type: diffuse}
-  - shape: {type: sphere, radius: 0.5}
-    material: {type: mirror, reflectance: 0.9}
-    transform: {translate: [0, 1.2, 0]}
-)";
+const std::string kMirrorSphere = causticbench::testing::pinhole_mirror_sphere();
 
 }  // namespace
 
@@ -344,10 +334,8 @@ objects:
   // Grazing light and a light of 1e-6 sr.
   for (const std::string& light : {std::string("{type: directional, direction: [1, -0.001, 0], irradiance: 1}"),
                                    std::string("{type: directional, direction: [0.4, -1, 0], irradiance: 1, solid_angle_sr: 0.000001}")}) {
-    std::string text = kMirrorSphere;
-    size_t begin = text.find("lights: [") + 9, end = text.find("]\nobjects");
-    text.replace(begin, end - begin, light);
-    FrameResult result = render(scene_from_yaml(text), "pinhole", {"samples=500"});
+    FrameResult result =
+        render(scene_from_yaml(causticbench::testing::pinhole_mirror_sphere("[" + light + "]")), "pinhole", {"samples=500"});
     EXPECT_TRUE(all_finite(result)) << light;
   }
 }

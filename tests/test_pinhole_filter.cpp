@@ -14,6 +14,7 @@
 #include "core/image_statistics.h"
 #include "methods/pinhole/cube_filter.h"
 #include "methods/pinhole/light_map.h"
+#include "tests/pinhole_test_scenes.h"
 #include "tests/test_support.h"
 
 using namespace causticbench;
@@ -76,17 +77,10 @@ TEST(PinholeCubeFilter, IntegratesToOne) {
 TEST(PinholeCubeFilter, ConstantLightGivesTheSameIrradianceFilteredAndUnfiltered) {
   // The same at the method's level: under a uniform sky (two hemispherical disk lights, one from above
   // and one from below), the filtered renders equal the unfiltered one.
-  Scene scene = scene_from_yaml(R"(
-camera: {type: orthographic, position: [0, 5, 0.01], look_at: [0, 0, 0], view_height: 4, resolution: [16, 16]}
-lights: [{type: directional, direction: [0, -1, 0], irradiance: 1, solid_angle_sr: 6.2831853},
-         {type: directional, direction: [0, 1, 0], irradiance: 1, solid_angle_sr: 6.2831853}]
-objects:
-  - shape: {type: quad, size: [8, 8]}
-    material: {type: diffuse}
-  - shape: {type: sphere, radius: 0.5}
-    material: {type: mirror, reflectance: 0.9}
-    transform: {translate: [0, 1.2, 0]}
-)");
+  Scene scene = scene_from_yaml(causticbench::testing::pinhole_mirror_sphere(
+      "[{type: directional, direction: [0, -1, 0], irradiance: 1, solid_angle_sr: 6.2831853},\n"
+      "         {type: directional, direction: [0, 1, 0], irradiance: 1, solid_angle_sr: 6.2831853}]",
+      16));
   const std::vector<std::string> common = {"samples=300", "environment_resolution=16"};
   FrameResult unfiltered = causticbench::testing::render(scene, "pinhole", common);
   double flux = masked_sum(unfiltered.caustic, unfiltered.gbuffer.receiver);
@@ -219,16 +213,8 @@ TEST(PinholeCubeFilter, VulkanAgreesWithTheCpu) {
   // log2 and sums), far below what separates two filters (measured relMSE below 1e-12). Bound: relMSE
   // 1e-9 and flux within 1e-5, on a wide light and on the ring's compact light, which sits on a
   // cube-map seam.
-  Scene sphere = scene_from_yaml(R"(
-camera: {type: orthographic, position: [0, 5, 0.01], look_at: [0, 0, 0], view_height: 4, resolution: [24, 24]}
-lights: [{type: environment, procedural: gaussian_spot, direction: [0.4, -1, 0], irradiance: 1, solid_angle_sr: 0.2}]
-objects:
-  - shape: {type: quad, size: [8, 8]}
-    material: {type: diffuse}
-  - shape: {type: sphere, radius: 0.5}
-    material: {type: mirror, reflectance: 0.9}
-    transform: {translate: [0, 1.2, 0]}
-)");
+  Scene sphere = scene_from_yaml(causticbench::testing::pinhole_mirror_sphere(
+      "[{type: environment, procedural: gaussian_spot, direction: [0.4, -1, 0], irradiance: 1, solid_angle_sr: 0.2}]", 24));
   Scene ring = load_scene(std::string(CAUSTICBENCH_SCENES) + "/ring.yaml");
   set_resolution(ring, 24, 24);
   for (const Scene* scene : {&sphere, &ring}) {
