@@ -96,7 +96,6 @@ void CslMethod::prepare(const PrepareContext& context, const ParamSet& build) {
   scene_ = &context.scene;
   frame_.clear();
   mesh_.reset();
-  rays_traced_ = 0.0;
   // The plan first (static directions or the facets of each dynamic set), then the work.
   Plan plan = make_plan(context, build, mesh_);
   objects_ = std::move(plan.objects);
