@@ -141,9 +141,32 @@ nlohmann::json read_overrides(const ConfigNode& node, Scene& scene) {
   return applied;
 }
 
-// `variants`: a list of override maps (the keys of `overrides`, plus an optional `name`), each applied
-// on top of the base overrides. Without it, the base is the one variant, named "default".
-std::vector<SceneVariant> read_variants(const ConfigNode& root, const SceneVariant& base) {
+// A scene file named by `key` of `node`, relative to the experiment file: its path, the hash of exactly
+// the text that is parsed, and the scene.
+SceneVariant read_scene_file(const ConfigNode& node, const std::string& key, const std::string& experiment_path) {
+  std::string scene_name = node.string(key);
+  fs::path scene_path = fs::path(experiment_path).parent_path() / scene_name;
+  if (fs::path(scene_name).is_absolute()) scene_path = scene_name;
+  if (!fs::is_regular_file(scene_path)) {
+    throw_input_error(node.location_of(key), node.path().empty() ? key : node.path() + "." + key,
+                      "a scene file (relative to the experiment file)",
+                      "'" + scene_path.string() + "', which does not exist");
+  }
+  SceneVariant variant;
+  variant.name = "default";
+  variant.overrides = nlohmann::json::object();
+  variant.scene_path = scene_path.lexically_normal().string();
+  std::string scene_text = read_text(variant.scene_path);
+  variant.scene_hash = hash_text(scene_text);
+  variant.scene = load_scene_text(scene_text, variant.scene_path);
+  return variant;
+}
+
+// `variants`: a list of override maps (the keys of `overrides`, plus an optional `name` and `scene`), each
+// applied on top of the base overrides. A variant with its own `scene` starts from that file, with the
+// base overrides applied to it. Without `variants`, the base is the one variant, named "default".
+std::vector<SceneVariant> read_variants(const ConfigNode& root, const SceneVariant& base,
+                                        const std::optional<ConfigNode>& base_overrides, const std::string& path) {
   std::optional<ConfigNode> list = root.optional_child("variants");
   if (!list) return {base};
   if (!list->is_sequence() || list->size() == 0) list->fail_here("a non-empty list of override maps", list->describe_value());
@@ -151,8 +174,15 @@ std::vector<SceneVariant> read_variants(const ConfigNode& root, const SceneVaria
   std::set<std::string> names;
   for (size_t i = 0; i < list->size(); ++i) {
     ConfigNode item = list->at(i);
-    if (!item.is_map()) item.fail_here("a map of overrides (resolution, camera, light) and an optional name", item.describe_value());
+    if (!item.is_map()) {
+      item.fail_here("a map of overrides (resolution, camera, light), an optional name and an optional scene",
+                     item.describe_value());
+    }
     SceneVariant variant = base;
+    if (item.has("scene")) {
+      variant = read_scene_file(item, "scene", path);
+      if (base_overrides) variant.overrides = read_overrides(*base_overrides, variant.scene);
+    }
     variant.name = item.string_or("name", "");
     if (!variant.name.empty() && !std::regex_match(variant.name, std::regex("[A-Za-z0-9_.-]+"))) {
       item.fail("name", "a name of letters, digits, '_', '.' and '-'", "'" + variant.name + "'");
@@ -160,16 +190,21 @@ std::vector<SceneVariant> read_variants(const ConfigNode& root, const SceneVaria
     nlohmann::json own = read_overrides(item, variant.scene);
     variant.overrides.merge_patch(own);
     if (variant.name.empty()) {
-      variant.name = own.size() == 1 && own.contains("resolution")
-                         ? fmt::format("{}x{}", variant.scene.camera.width, variant.scene.camera.height)
-                         : fmt::format("variant{}", i);
+      if (item.has("scene") && own.empty()) {
+        variant.name = fs::path(variant.scene_path).stem().string();
+      } else if (own.size() == 1 && own.contains("resolution") && !item.has("scene")) {
+        variant.name = fmt::format("{}x{}", variant.scene.camera.width, variant.scene.camera.height);
+      } else {
+        variant.name = fmt::format("variant{}", i);
+      }
     }
     if (!names.insert(variant.name).second) {
       item.fail_here("variants with different names (set `name`)", "a second variant named '" + variant.name + "'");
     }
     for (const SceneVariant& earlier : variants) {
-      if (earlier.overrides == variant.overrides) {
-        item.fail_here("variants that differ in their overrides", "the same overrides as variant '" + earlier.name + "'");
+      if (earlier.overrides == variant.overrides && earlier.scene_hash == variant.scene_hash) {
+        item.fail_here("variants that differ in their scene or overrides",
+                       "the same overrides as variant '" + earlier.name + "', on the same scene");
       }
     }
     variants.push_back(std::move(variant));
@@ -245,6 +280,7 @@ nlohmann::json Experiment::to_json() const {
   nlohmann::json variants_json = nlohmann::json::array();
   for (const SceneVariant& variant : variants) {
     variants_json.push_back({{"name", variant.name},
+                             {"scene", variant.scene_path},
                              {"overrides", variant.overrides},
                              {"resolution", {variant.scene.camera.width, variant.scene.camera.height}},
                              {"reference_key", variant.reference_key}});
@@ -281,23 +317,24 @@ Experiment load_experiment(const std::string& path) {
   experiment.name = root.string_or("name", fs::path(path).stem().string());
   check_experiment_name(root, experiment.name);
   experiment.description = root.string_or("description", "");
-  std::string scene_name = root.string("scene");
-  fs::path scene_path = fs::path(path).parent_path() / scene_name;
-  if (fs::path(scene_name).is_absolute()) scene_path = scene_name;
-  if (!fs::is_regular_file(scene_path)) {
-    throw_input_error(root.location_of("scene"), "scene", "a scene file (relative to the experiment file)",
-                      "'" + scene_path.string() + "', which does not exist");
-  }
-  experiment.scene_path = scene_path.lexically_normal().string();
-  // Read once: the hash is of exactly the text that is parsed.
-  std::string scene_text = read_text(experiment.scene_path);
-  experiment.scene_hash = hash_text(scene_text);
-  SceneVariant base{"default", nlohmann::json::object(), load_scene_text(scene_text, experiment.scene_path), ""};
-  if (std::optional<ConfigNode> overrides = root.optional_child("overrides")) {
-    base.overrides = read_overrides(*overrides, base.scene);
-  }
-  experiment.variants = read_variants(root, base);
+  SceneVariant base = read_scene_file(root, "scene", path);
+  experiment.scene_path = base.scene_path;
+  experiment.scene_hash = base.scene_hash;
+  std::optional<ConfigNode> base_overrides = root.optional_child("overrides");
+  if (base_overrides) base.overrides = read_overrides(*base_overrides, base.scene);
+  experiment.variants = read_variants(root, base, base_overrides, path);
   experiment.frames = read_frames(root, experiment.variants.front().scene);
+  // A variant with its own scene may have fewer frames than the first variant that `frames` was read
+  // against.
+  for (const SceneVariant& variant : experiment.variants) {
+    for (int frame : experiment.frames) {
+      if (frame >= variant.scene.frames) {
+        root.fail("frames", fmt::format("frames that every variant's scene has (variant '{}', {}, has {})", variant.name,
+                                        variant.scene_path, variant.scene.frames),
+                  fmt::format("frame {}", frame));
+      }
+    }
+  }
   experiment.repetitions = root.integer_or("repetitions", 3, 1, 1000);
   experiment.empty_reference_expected = root.boolean_or("empty_reference_expected", false);
 
@@ -340,7 +377,7 @@ Experiment load_experiment(const std::string& path) {
   if (std::optional<ConfigNode> reference = root.optional_child("reference")) reference_dict.set_from_config(*reference);
   experiment.reference_params = reference_dict.resolve(find_method("reference").info().params, "reference");
   for (SceneVariant& variant : experiment.variants) {
-    variant.reference_key = hash_json({{"scene_hash", experiment.scene_hash},
+    variant.reference_key = hash_json({{"scene_hash", variant.scene_hash},
                                        {"overrides", variant.overrides},
                                        {"reference", experiment.reference_params.to_json()}});
   }
@@ -445,7 +482,7 @@ Experiment load_experiment(const std::string& path) {
         RunSpec run = knobs;
         run.variant = v;
         run.label = label + swept_text + (experiment.variants.size() > 1 ? " @" + variant.name : "");
-        run.spec = {{"scene_hash", experiment.scene_hash}, {"overrides", variant.overrides},
+        run.spec = {{"scene_hash", variant.scene_hash}, {"overrides", variant.overrides},
                     {"frames", experiment.frames},         {"repetitions", experiment.repetitions},
                     {"method", info.name},                 {"params", run.params.to_json()}};
         run.key = hash_json(run.spec);

@@ -34,12 +34,16 @@ struct RunSpec {
 };
 
 // One version of the experiment's scene: the base overrides with a variant's on top (a resolution, a
-// camera, a light), and the reference that goes with it. Every method entry runs on every variant.
+// camera, a light), and the reference that goes with it. Every method entry runs on every variant. A
+// variant may name a scene file of its own (an extremes or capability case: another object, another
+// material); the base overrides then apply to that scene.
 struct SceneVariant {
   std::string name;          // "default" for an experiment without `variants`
   nlohmann::json overrides;  // as applied (canonical): the base overrides merged with the variant's
   Scene scene;               // loaded, overrides applied
   std::string reference_key;
+  std::string scene_path;    // the experiment's scene, or the variant's own `scene`
+  std::string scene_hash;    // of that file's text: it enters the reference's and the runs' keys
 };
 
 struct Experiment {

@@ -53,7 +53,7 @@ std::string frames_text(const std::vector<FramePresence>& frames) {
       "against nothing; {}. No run was started (the reference is kept in {}). An experiment that means to measure "
       "an empty caustic (an extremes case) sets `empty_reference_expected: true`; its runs are then reported as "
       "\"empty reference\", not scored.",
-      experiment.source, experiment.scene_path, variant.name, frames_text(empty), empty.front().presence.describe(),
+      experiment.source, variant.scene_path, variant.name, frames_text(empty), empty.front().presence.describe(),
       kEmptyCausticHint, paths.reference(variant.reference_key)));
 }
 

@@ -192,6 +192,59 @@ variants:
   EXPECT_NE(message.find("a non-empty list"), std::string::npos) << message;
 }
 
+// A variant may name a scene file of its own (an extremes or capability case): it starts from that
+// file, the base overrides apply to it, its content enters the reference's and the runs' keys, and it is
+// named after the file unless it says otherwise.
+TEST(Experiment, VariantsWithTheirOwnScene) {
+  ExperimentFolder folder("experiment_variant_scenes");
+  folder.write("denser.yaml", causticbench::testing::replace_once(causticbench::testing::kSmallGlassSphere,
+                                                                  "resolution: [40, 40]", "resolution: [20, 20]"));
+  Experiment plain = load_experiment(folder.write("plain.yaml", kExperiment));
+  std::string text = replace(kExperiment, "repetitions: 1", R"(repetitions: 1
+overrides: {camera: {fov_degrees: 40}}
+variants:
+  - {name: base}
+  - {scene: denser.yaml}
+  - {name: denser_wide, scene: denser.yaml, camera: {fov_degrees: 60}})");
+  Experiment varied = load_experiment(folder.write("varied.yaml", text));
+  ASSERT_EQ(varied.variants.size(), 3u);
+  EXPECT_EQ(varied.variants[1].name, "denser");
+  EXPECT_EQ(varied.variants[1].scene.camera.width, 20);            // its own file
+  EXPECT_DOUBLE_EQ(varied.variants[1].scene.camera.fov_degrees, 40.0);  // the base overrides on it
+  EXPECT_DOUBLE_EQ(varied.variants[2].scene.camera.fov_degrees, 60.0);
+  EXPECT_NE(varied.variants[1].scene_hash, varied.variants[0].scene_hash);
+  EXPECT_EQ(varied.variants[0].scene_hash, varied.scene_hash);
+  EXPECT_NE(varied.variants[1].scene_path.find("denser.yaml"), std::string::npos);
+  std::set<std::string> references;
+  for (const SceneVariant& variant : varied.variants) references.insert(variant.reference_key);
+  EXPECT_EQ(references.size(), 3u);
+  std::set<std::string> keys;
+  for (const RunSpec& run : varied.runs) keys.insert(run.key);
+  EXPECT_EQ(keys.size(), 3 * plain.runs.size());
+  // The same scene text under another file name is the same variant: content, not path, is keyed.
+  folder.write("copy.yaml", causticbench::testing::replace_once(causticbench::testing::kSmallGlassSphere,
+                                                                "resolution: [40, 40]", "resolution: [24, 24]"));
+  Experiment copied = load_experiment(folder.write("copied.yaml", replace(kExperiment, "repetitions: 1",
+                                                                          "repetitions: 1\nvariants: [{scene: copy.yaml}]")));
+  EXPECT_EQ(copied.runs[0].key, plain.runs[0].key);
+  EXPECT_EQ(copied.variants[0].reference_key, plain.variants[0].reference_key);
+  // A missing scene file names the variant's key; two variants on the same scene text with the same
+  // overrides are one.
+  std::string message = error_of(folder, replace(kExperiment, "repetitions: 1", "repetitions: 1\nvariants:\n  - {scene: nowhere.yaml}"));
+  EXPECT_NE(message.find("bad.yaml:6:"), std::string::npos) << message;
+  EXPECT_NE(message.find("variants[0].scene"), std::string::npos) << message;
+  EXPECT_NE(message.find("which does not exist"), std::string::npos) << message;
+  message = error_of(folder, replace(kExperiment, "repetitions: 1",
+                                     "repetitions: 1\nvariants:\n  - {name: a, scene: denser.yaml}\n  - {name: b, scene: denser.yaml}"));
+  EXPECT_NE(message.find("the same overrides as variant 'a'"), std::string::npos) << message;
+  // Frames the variant's scene does not have.
+  folder.write("animated.yaml", causticbench::testing::replace_once(causticbench::testing::kSmallGlassSphere, "camera:",
+                                                                    "frames: 3\ncamera:"));
+  message = error_of(folder, replace(replace(kExperiment, "scene: scene.yaml", "scene: animated.yaml"), "repetitions: 1",
+                                     "repetitions: 1\nframes: [0, 2]\nvariants: [{name: a}, {scene: scene.yaml}]"));
+  EXPECT_NE(message.find("variant 'scene'"), std::string::npos) << message;
+}
+
 // Every shipped experiment file validates (scene, methods, knobs, paper block, claims).
 TEST(Experiment, ShippedExperimentsValidate) {
   int count = 0;
