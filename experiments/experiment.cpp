@@ -306,6 +306,7 @@ nlohmann::json Experiment::to_json() const {
           {"budgets_ms", report.budgets_ms},
           {"error_targets", report.error_targets},
           {"total_cost_frames", report.total_cost_frames},
+          {"case_table", report.case_table},
           {"empty_reference_expected", empty_reference_expected}};
 }
 

@@ -163,6 +163,7 @@ ReportSettings read_report_settings(const ConfigNode& root, const std::vector<st
   settings.tradeoffs = read_tradeoffs(root, metrics, primary_metric);
   settings.budgets_ms = read_increasing(root, "budgets_ms", kDefaultBudgetsMs, 1e9);
   settings.total_cost_frames = read_increasing(root, "total_cost_frames", kDefaultTotalCostFrames, 1e12);
+  settings.case_table = root.boolean_or("case_table", false);
   if (root.has("error_targets")) {
     // Targets of the primary metric: any finite numbers, listed from the loosest to the strictest is
     // not required (the metric's direction decides which is stricter), but each once.

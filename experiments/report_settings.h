@@ -27,6 +27,10 @@ struct ReportSettings {
   std::vector<double> budgets_ms = kDefaultBudgetsMs;
   std::vector<double> error_targets;  // of the primary metric; empty: chosen from the runs (docs/reports.md)
   std::vector<double> total_cost_frames = kDefaultTotalCostFrames;
+  // `case_table: true`: the report adds the case table (reports/case_table.cpp), every run as one row of
+  // case (scene variant) and method setting with its outcome: finite, non-finite, stopped with an error,
+  // or against an empty reference. The extremes studies set it.
+  bool case_table = false;
 
   nlohmann::json tradeoffs_json() const;
 };

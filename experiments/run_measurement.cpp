@@ -32,11 +32,13 @@ double minimum(const std::vector<double>& values) {
   return values.empty() ? 0.0 : *std::min_element(values.begin(), values.end());
 }
 
-// A frame whose reference is empty is not scored: every metric of it is undefined, except the count of
-// non-finite pixels, which judges the method alone.
+// A frame whose reference is empty is not scored: every metric of it is undefined, except the two that
+// judge the method alone: the count of non-finite pixels, and max_error, which against an empty reference
+// is the brightest E_c the method put where there is none (0 when it, too, gave nothing: the extremes
+// studies' "nothing where nothing is").
 void mark_empty_reference(MetricValues& values, const std::string& reason) {
   for (auto it = values.values.begin(); it != values.values.end();) {
-    if (it->first == "nonfinite_pixels") {
+    if (it->first == "nonfinite_pixels" || it->first == "max_error") {
       ++it;
       continue;
     }

@@ -157,6 +157,11 @@ std::string html_document(const Report& report) {
           "only with runs of its own variant).";
     out += "</p>\n";
   }
+  if (has_case_table(report)) {
+    out += "<h2 id=\"cases\">Case table</h2>\n";
+    html_table(out, case_table(report));
+    out += "<p class=\"caption\">" + html_escape(case_table_caption(report)) + "</p>\n";
+  }
   views_html(out, report);
   Table failed = failed_table(report);
   if (!failed.rows.empty()) {

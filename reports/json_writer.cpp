@@ -57,6 +57,7 @@ std::string results_json(const Report& report) {
   json claims = json::array();
   for (const ClaimResult& result : report.claims) claims.push_back(claim_json(report, result));
   out["claims"] = claims;
+  if (has_case_table(report)) out["case_table"] = case_table_json(report);
   return out.dump(2) + "\n";
 }
 

@@ -106,6 +106,10 @@ std::string markdown_document(const Report& report) {
     out += "\n\n";
     markdown_table(out, results);
   }
+  if (has_case_table(report)) {
+    out += "## Case table\n\n" + case_table_caption(report) + "\n\n";
+    markdown_table(out, case_table(report));
+  }
   views_markdown(out, report);
   Table failed = failed_table(report);
   if (!failed.rows.empty()) {

@@ -92,6 +92,22 @@ std::vector<std::string> undefined_notes(const Table& table);
 size_t note_number(const std::vector<std::string>& notes, const std::string& note);
 
 // ---------------------------------------------------------------------------------------------------
+// case_table.cpp: the extremes studies' table (experiment.json "case_table": true), every run as a row.
+
+// One run as the case table shows it. outcome: finite, non-finite, stopped, empty reference or stale.
+struct CaseRow {
+  size_t run = 0;  // into Report::runs
+  std::string variant, method, setting, outcome, message;
+  std::optional<double> energy_ratio, primary, max_error, frame_ms;
+};
+std::string case_outcome(const Run& run);
+std::vector<CaseRow> case_rows(const Report& report);  // by variant, then in the experiment's order
+Table case_table(const Report& report);
+std::string case_table_caption(const Report& report);  // the counts per outcome and what they mean
+json case_table_json(const Report& report);            // results.json "case_table"
+bool has_case_table(const Report& report);              // experiment.json asks for it
+
+// ---------------------------------------------------------------------------------------------------
 // claim_evidence.cpp: what the report says of each checked claim.
 
 enum class Format { plain, markdown, html };

@@ -23,10 +23,13 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+// The studies that compare methods on a ladder of settings. Those that show a case table (the extremes,
+// case_table: true) compare cases, not ladders: tests/test_extremes.cpp runs them.
 std::vector<fs::path> study_files() {
   std::vector<fs::path> files;
   for (const auto& entry : fs::directory_iterator(std::string(CAUSTICBENCH_SCENES) + "/../experiments"))
-    if (entry.path().extension() == ".yaml" && entry.path().filename().string().rfind("study_", 0) == 0)
+    if (entry.path().extension() == ".yaml" && entry.path().filename().string().rfind("study_", 0) == 0 &&
+        !load_experiment(entry.path().string()).report.case_table)
       files.push_back(entry.path());
   std::sort(files.begin(), files.end());
   return files;

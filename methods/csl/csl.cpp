@@ -106,6 +106,7 @@ void CslMethod::prepare(const PrepareContext& context, const ParamSet& build) {
     auto make = [&](const Vec3& direction) { return make_spot_light_set(tracer, sets.bounds, direction, build); };
     if (plan.dynamic[i]) {
       sets.dynamic = build_dynamic_sets(tracer, sets.bounds, *mesh_, *plan.dynamic[i], make, tracking_settings(build, sets.bounds));
+      check_some_spot_light(sets.name, sets.dynamic->sets, build);
       continue;
     }
     Progress progress("csl light directions", static_cast<double>(plan.static_directions[i].size()));
@@ -114,8 +115,32 @@ void CslMethod::prepare(const PrepareContext& context, const ParamSet& build) {
       progress.update(static_cast<double>(sets.sets.size()), sets.name);
     }
     progress.finish();
+    check_some_spot_light(sets.name, sets.sets, build);
   }
   count_rays();
+}
+
+// An object whose rays carry caustic light but for which no spot light was made in any direction would
+// render black, silently: the build knobs dismissed every bundle (energy_coverage 0 asks for none; a
+// distance_threshold, angle_threshold or fit_tolerance of about 0 admits no ray, since no two rays are
+// exactly coaxial in floating point). Found by the extremes study (study_extremes_knobs.yaml). An
+// object with no caustic rays at all (fully absorbing, or min_energy dropping every branch) renders
+// black rightly and passes.
+void CslMethod::check_some_spot_light(const std::string& object, const std::vector<csl::SpotLightSet>& sets,
+                                      const ParamSet& build) {
+  double ray_energy = 0.0;
+  for (const SpotLightSet& set : sets) {
+    if (!set.lights.empty()) return;
+    ray_energy += set.ray_energy;
+  }
+  if (!(ray_energy > 0.0)) return;
+  throw InputError(fmt::format(
+      "csl made no caustic spot light for object '{}' in any of its {} light direction(s), though its rays carry "
+      "caustic light: the build knobs dismissed every bundle (energy_coverage {}, distance_threshold {}, "
+      "angle_threshold {}, fit_tolerance {}); its image would be black. Raise energy_coverage above 0 or the "
+      "thresholds (defaults 0.95, 0.1, 90, 0.3)",
+      object, sets.size(), build.real("energy_coverage"), build.real("distance_threshold"),
+      build.real("angle_threshold"), build.real("fit_tolerance")));
 }
 
 void CslMethod::count_rays() {

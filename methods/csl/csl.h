@@ -68,6 +68,7 @@ class CslMethod : public CausticMethod {
   };
   static Plan make_plan(const PrepareContext& context, const ParamSet& build, std::unique_ptr<lpi::SphericalMesh>& mesh);
   void count_rays();
+  static void check_some_spot_light(const std::string& object, const std::vector<csl::SpotLightSet>& sets, const ParamSet& build);
   void update_dynamic(const ObjectSets& sets, const Vec3& direction, const ParamSet& frame_knobs, LightView& view) const;
 
   const Scene* scene_ = nullptr;

@@ -71,6 +71,8 @@ void CslMethod::load_build(const PrepareContext& context, const ParamSet& build,
     }
     objects_[i].sets = std::move(stored.sets);
     objects_[i].dynamic = std::move(stored.dynamic);
+    // A stored build is judged as a computed one: one without any spot light is refused the same way.
+    check_some_spot_light(objects_[i].name, objects_[i].dynamic ? objects_[i].dynamic->sets : objects_[i].sets, build);
   }
   count_rays();
 }

@@ -144,6 +144,20 @@ VolumeSettings lpi::volume_settings(const ParamSet& build) {
   }
   settings.precision = parse_precision(build.text("precision"));
   settings.orientation = build.text("orientation") == "paper" ? Orientation::paper : Orientation::vector;
+  // The paper's orientation stores irradiance across the direction from the object's centre to each
+  // sample point. A volume of one cell has its only sample at the centre, where that direction does not
+  // exist: every value would be 0 and the image black, silently (found by study_extremes_knobs.yaml).
+  const bool one_cell = (settings.storage != StorageKind::multires && settings.storage != StorageKind::shells &&
+                         settings.grid_resolution == 1) ||
+                        (settings.storage == StorageKind::multires && settings.multires_depth == 0);
+  if (one_cell && settings.orientation == Orientation::paper) {
+    throw InputError(fmt::format(
+        "lpi: {} gives one cell, centred on the object, and orientation 'paper' needs the direction from the "
+        "object's centre to each sample point, which that cell lacks (its value would be 0): use {} or "
+        "orientation: vector",
+        settings.storage == StorageKind::multires ? "multires_depth 0" : "grid_resolution 1",
+        settings.storage == StorageKind::multires ? "multires_depth 1 or more" : "grid_resolution 2 or more"));
+  }
   settings.volume_radius = build.real("volume_radius");
   settings.photons_per_sample = static_cast<uint64_t>(build.integer("photons_per_sample"));
   settings.seed = static_cast<uint64_t>(build.integer("seed"));

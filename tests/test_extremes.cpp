@@ -1,0 +1,139 @@
+// The extremes studies (configs/experiments/study_extremes*.yaml, issue 14, item 4): every method on
+// every case runs end to end at a tiny resolution, and the report's case table (results.json
+// "case_table") has exactly one entry for every run, that is for every method setting and case, none of
+// them non-finite. A run may stop with a clear error (a method that cannot model the case may refuse
+// it); it may not crash, hang or write a NaN or Inf. The tiny copy differs from the shipped file only in
+// its resolution, reference, repetitions and the cost of its cheap builds (csl's 256 rays a side become
+// 64, lpi's 200,000 photons a sample 20,000): the cases and every knob extreme are the shipped ones.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "experiments/experiment.h"
+#include "tests/test_support.h"
+
+namespace causticbench {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::vector<fs::path> extremes_files() {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(std::string(CAUSTICBENCH_SCENES) + "/../experiments"))
+    if (entry.path().extension() == ".yaml" && entry.path().filename().string().rfind("study_extremes", 0) == 0)
+      files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string tiny_copy(const std::string& text) {
+  std::string tiny = text;
+  const std::pair<const char*, const char*> lines[] = {
+      {"\noverrides: [^\n]*", "\noverrides: {resolution: [16, 16]}"},
+      {"\nreference: [^\n]*", "\nreference: {photons_per_pass: 100000, max_passes: 2, target_noise_floor: 0}"},
+      {"\nrepetitions: [^\n]*", "\nrepetitions: 1"}};
+  for (const auto& [pattern, replacement] : lines) {
+    std::regex expression(pattern);
+    EXPECT_TRUE(std::regex_search(tiny, expression)) << "the extremes file has no one-line " << pattern;
+    tiny = std::regex_replace(tiny, expression, replacement);
+  }
+  tiny = std::regex_replace(tiny, std::regex("rays_per_side: 256"), "rays_per_side: 64");
+  return std::regex_replace(tiny, std::regex("photons_per_sample: 200000"), "photons_per_sample: 20000");
+}
+
+// Knob extremes that used to give a silent black image (study_extremes_knobs.yaml found them) and now
+// stop with a clear error before rendering: lpi's one cell at the object's centre, where the paper's
+// orientation has no direction; csl's bundles all dismissed.
+const std::set<std::string> kMustStop = {"lpi one cell",          "lpi multires depth 0",        "csl coverage 0",
+                                         "csl distance threshold 1e-6", "csl angle threshold 0", "csl fit tolerance 0"};
+
+TEST(Extremes, EveryMethodAndCaseHasAFiniteResultOrAClearError) {
+  const std::vector<fs::path> files = extremes_files();
+  ASSERT_GE(files.size(), 3u) << "study_extremes, study_extremes_directions and study_extremes_knobs";
+  testing::TemporaryFolder folder("extremes_end_to_end");
+  // The copies sit in experiments/ beside a link to the shipped scenes/, so that the variants' relative
+  // scene paths resolve as they do in configs/.
+  fs::create_directories(folder.path("experiments"));
+  fs::create_directory_symlink(CAUSTICBENCH_SCENES, folder.path("scenes"));
+  const std::string results = folder.path("results");
+  for (const fs::path& file : files) {
+    const std::string tiny = folder.write("experiments/" + file.filename().string(), tiny_copy(read_text(file)));
+    const Experiment experiment = load_experiment(tiny);
+    ASSERT_TRUE(experiment.report.case_table) << file << ": an extremes study shows the case table";
+    std::string output;
+    const int code = testing::run_command(std::string(CAUSTICBENCH_BINARY) + " -q run " + tiny + " --results " + results, output);
+    ASSERT_EQ(code, 0) << file << "\n" << output;
+
+    const json report = json::parse(read_text(fs::path(results) / experiment.name / "results.json"));
+    ASSERT_TRUE(report.contains("case_table")) << file;
+    std::map<std::string, const RunSpec*> runs;
+    std::set<std::string> methods, cases;
+    for (const RunSpec& run : experiment.runs) {
+      runs[run.key] = &run;
+      methods.insert(run.method);
+      cases.insert(experiment.variants[run.variant].name);
+    }
+    std::set<std::string> seen_keys, seen_methods, seen_cases;
+    std::set<std::pair<std::string, std::string>> seen_cells;
+    for (const json& row : report.at("case_table")) {
+      const std::string key = row.at("key"), outcome = row.at("outcome"), where = file.filename().string() + " " +
+                                                                                   row.at("case").get<std::string>() +
+                                                                                   " " + row.at("setting").get<std::string>();
+      ASSERT_TRUE(runs.count(key)) << where << ": a row for a run the experiment does not have";
+      EXPECT_TRUE(seen_keys.insert(key).second) << where << ": two rows for one run";
+      const std::string case_name = row.at("case"), setting = row.at("setting"), method = row.at("method");
+      EXPECT_TRUE(seen_cells.insert({case_name, setting}).second) << where << ": two rows for one cell";
+      EXPECT_EQ(case_name, experiment.variants[runs.at(key)->variant].name) << where;
+      seen_methods.insert(method);
+      seen_cases.insert(case_name);
+      EXPECT_NE(outcome, "non-finite") << where << ": " << row.at("error");
+      EXPECT_TRUE(outcome == "finite" || outcome == "stopped" || outcome == "empty reference") << where << ": " << outcome;
+      if (outcome == "finite") {
+        ASSERT_TRUE(row.at("energy_ratio").is_number()) << where << ": a finite run against a caustic has an energy ratio";
+        EXPECT_TRUE(std::isfinite(row.at("energy_ratio").get<double>())) << where;
+        EXPECT_TRUE(row.at("primary_metric").is_number()) << where;
+      }
+      if (kMustStop.count(setting)) {
+        EXPECT_EQ(outcome, "stopped") << where << ": a silent black image where a clear error belongs";
+      }
+      if (outcome != "stopped") {
+        ASSERT_TRUE(row.at("max_error").is_number()) << where << ": max_error is defined even against nothing";
+        EXPECT_TRUE(std::isfinite(row.at("max_error").get<double>())) << where;
+      } else {
+        EXPECT_FALSE(row.at("error").get<std::string>().empty()) << where << ": a stopped run says why";
+      }
+      // The record agrees: no non-finite pixel in any stored frame.
+      const json record = json::parse(read_text(fs::path(results) / experiment.name / "runs" / key / "record.json"));
+      if (record.at("status") == "ok") EXPECT_EQ(record.at("metrics").value("nonfinite_pixels", 0.0), 0.0) << where;
+    }
+    if (experiment.name == "study_extremes_knobs") {
+      for (const std::string& setting : kMustStop)
+        EXPECT_TRUE(std::any_of(seen_cells.begin(), seen_cells.end(), [&](const auto& cell) { return cell.second == setting; }))
+            << setting << " is no longer in study_extremes_knobs.yaml";
+    }
+    EXPECT_EQ(seen_keys.size(), runs.size()) << file << ": every method and case has an entry";
+    EXPECT_EQ(seen_methods, methods) << file;
+    EXPECT_EQ(seen_cases, cases) << file;
+  }
+}
+
+}  // namespace
+}  // namespace causticbench
