@@ -74,8 +74,8 @@ int run_summarize(const std::vector<std::string>& folders, const std::string& ou
     target = first.has_parent_path() ? first.parent_path().string() : ".";
   }
   SummaryFiles summary = write_summary(folders, target);
-  fmt::print("summary: {} ({} experiments, {} scenes, {} claims: {} confirmed, {} not confirmed)\n", summary.html,
-             summary.experiments, summary.scenes, summary.claims, summary.claims_confirmed, summary.claims_not_confirmed);
+  fmt::print("summary: {} ({} experiments, {} scenes, {} claims: {})\n", summary.html, summary.experiments,
+             summary.scenes, summary.claims.total, summary.claims.breakdown());
   for (const std::string& line : summary.headlines) fmt::print("  {}\n", line);
   fmt::print("also: {}, {}\n", summary.markdown, summary.json);
   return 0;

@@ -103,7 +103,7 @@ nlohmann::json read_claims(const ConfigNode& node, const std::vector<std::string
     ConfigNode claim = node.at(i);
     nlohmann::json out;
     out["text"] = claim.string("text");
-    std::string kind = claim.choice("kind", {"best", "better", "linear"});
+    std::string kind = claim.choice("kind", {"best", "better", "same", "linear"});
     out["kind"] = kind;
     if (kind == "best") {
       out["metric"] = read_quantity(claim, "metric", metrics, true);
@@ -113,6 +113,16 @@ nlohmann::json read_claims(const ConfigNode& node, const std::vector<std::string
       out["metric"] = read_quantity(claim, "metric", metrics, true);
       out["run"] = claim.string("run");
       out["than"] = claim.string("than");
+    } else if (kind == "same") {
+      // Any registered quantity: `same` compares values, it needs no better direction.
+      out["metric"] = read_quantity(claim, "metric", metrics, false);
+      out["run"] = claim.string("run");
+      out["than"] = claim.string("than");
+      // Equal to the last bit is no claim a measurement can make: a tolerance must be stated.
+      if (!claim.has("relative_tolerance") && !claim.has("absolute_tolerance"))
+        claim.fail_here("a relative_tolerance or an absolute_tolerance (or both) for kind same", "neither");
+      out["relative_tolerance"] = claim.number_or("relative_tolerance", 0.0, 0.0, 1e6);
+      out["absolute_tolerance"] = claim.number_or("absolute_tolerance", 0.0, 0.0, 1e300);
     } else {
       out["x"] = claim.string("x");  // a knob or a quantity (receiver_pixels)
       out["y"] = read_quantity(claim, "y", metrics, false);

@@ -3,6 +3,7 @@
 // the summary. The verdicts themselves come from claims.cpp.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/errors.h"
@@ -40,6 +41,31 @@ json claim_point_json(const Report& report, const std::optional<ClaimPoint>& poi
   return out;
 }
 
+// The tolerance a `same` claim allows: "within 0.05 relative", "within 0.001", or both joined by "or".
+std::string tolerance_text(const ClaimResult& result) {
+  std::vector<std::string> parts;
+  if (result.relative_tolerance > 0.0) parts.push_back(num(result.relative_tolerance) + " relative");
+  if (result.absolute_tolerance > 0.0 || parts.empty()) parts.push_back(num(result.absolute_tolerance) + " absolute");
+  return "within " + join(parts, " or ");
+}
+
+// A measured `same` claim: how many pairs lie within the tolerance, and the pair that decides the most.
+template <typename Point>
+std::string same_evidence(const ClaimResult& result, const std::string& run, const std::string& than,
+                          const std::string& first_note, const std::string& other_note, const std::string& quantity,
+                          const Point& point) {
+  double a = result.first->value, b = result.other->value;
+  double larger = std::max(std::abs(a), std::abs(b));
+  std::string relative = larger > 0.0 ? fmt::format(" ({} relative)", num(std::abs(a - b) / larger)) : "";
+  return fmt::format("{} matching {}{} against {} matching {}{}: {} of {} pair{} {} {}; {}: {} against {}, "
+                     "difference {}{}.",
+                     runs_text(result.first_count), run, first_note, runs_text(result.other_count), than, other_note,
+                     result.pairs_holding, result.pairs, result.pairs == 1 ? "" : "s",
+                     result.pairs == 1 ? "is" : "are", tolerance_text(result),
+                     result.pairs_holding == result.pairs ? "nearest its edge" : "farthest beyond it", point(*result.first),
+                     point(*result.other), quantity + " " + num(std::abs(a - b)), relative);
+}
+
 }  // namespace
 
 // Why the claim has its verdict, with the numbers that decided it.
@@ -57,31 +83,35 @@ std::string claim_evidence(const Report& report, const ClaimResult& result, Form
     std::string among = code_text(string_member(claim, "among"), format);
     std::string expect = code_text(string_member(claim, "expect"), format);
     size_t total = result.first_count + result.other_count;
-    if (result.verdict == "not measured") {
+    if (result.verdict == Verdict::not_measured) {
       return fmt::format("{} with a {} value match{} {}{}, {} of them matching {}: the check needs at least 2, "
                          "one matching {} and one not.",
                          runs_text(total), quantity, total == 1 ? "es" : "", among, first_note,
                          result.first_count, expect, expect);
     }
-    bool confirmed = result.verdict == "confirmed";
+    bool confirmed = result.verdict == Verdict::confirmed;
     const ClaimPoint& best = confirmed ? *result.first : *result.other;
     const ClaimPoint& runner = confirmed ? *result.other : *result.first;
     return fmt::format("best of {} matching {}{}: {}, which {} {}; best run {} it: {}. {}", runs_text(total), among,
                        first_note, point(best), confirmed ? "matches" : "does not match",
                        expect, confirmed ? "not matching" : "matching", point(runner), direction);
   }
-  if (result.kind == "better") {
+  if (result.kind == "better" || result.kind == "same") {
     std::string run = code_text(string_member(claim, "run"), format);
     std::string than = code_text(string_member(claim, "than"), format);
-    if (result.verdict == "not measured") {
+    if (result.verdict == Verdict::not_measured) {
       return fmt::format("{} with a {} value match{} {}{}, {} match{} {}{}: the check needs at least 1 on each side.",
                          runs_text(result.first_count), quantity, result.first_count == 1 ? "es" : "", run,
                          first_note, result.other_count, result.other_count == 1 ? "es" : "",
                          than, other_note);
     }
-    return fmt::format("worst of {} matching {}{}: {}; best of {} matching {}{}: {}. {}",
+    if (result.kind == "same") return same_evidence(result, run, than, first_note, other_note, quantity, point);
+    // With several pairs, how many of them beat: what makes the verdict partly.
+    std::string pairs = result.pairs > 1 ? fmt::format(" Better in {} of {} pairs.", result.pairs_holding, result.pairs)
+                                         : "";
+    return fmt::format("worst of {} matching {}{}: {}; best of {} matching {}{}: {}.{} {}",
                        runs_text(result.first_count), run, first_note, point(*result.first),
-                       runs_text(result.other_count), than, other_note, point(*result.other),
+                       runs_text(result.other_count), than, other_note, point(*result.other), pairs,
                        direction);
   }
   std::string x = escaped(string_member(claim, "x"), format);
@@ -89,12 +119,15 @@ std::string claim_evidence(const Report& report, const ClaimResult& result, Form
   std::string grouped = result.group_by.empty() ? "" : ", grouped by " + escaped(join(result.group_by, ", "), format);
   std::string text = fmt::format("{} against {} over {} matching {}{}{}", quantity, x, runs_text(result.points), among,
                                  first_note, grouped);
-  if (result.verdict == "not measured") {
+  if (result.verdict == Verdict::not_measured) {
     return text + fmt::format(": no {} has {} points with different {} values to fit.",
                               result.group_by.empty() ? "set" : "group", kLinearMinPoints, x);
   }
   std::vector<std::string> parts;
+  size_t fitted = 0, passed = 0;
   for (const LinearGroup& group : result.groups) {
+    fitted += group.fitted;
+    passed += group.passed;
     std::string part = group.knobs.empty() ? "" : escaped(knobs_text(group.knobs), format) + ": ";
     if (!group.fitted) {
       part += fmt::format("{} point{}, not fitted", group.xs.size(), group.xs.size() == 1 ? "" : "s");
@@ -105,13 +138,15 @@ std::string claim_evidence(const Report& report, const ClaimResult& result, Form
     }
     parts.push_back(part);
   }
-  return text + ": " + join(parts, "; ") + ".";
+  // With several fitted groups, how many reach min_r2: what makes the verdict partly.
+  std::string count = fitted > 1 ? fmt::format(" Linear in {} of {} fitted groups.", passed, fitted) : "";
+  return text + ": " + join(parts, "; ") + "." + count;
 }
 
 // The claim as experiment.json states it, with "verdict", "evidence" (plain text) and "details".
 json claim_json(const Report& report, const ClaimResult& result) {
   json out = result.claim.is_object() ? result.claim : json{{"claim", result.claim}};
-  out["verdict"] = result.verdict;
+  out["verdict"] = verdict_name(result.verdict);
   out["evidence"] = claim_evidence(report, result, Format::plain);
   json details = json::object();
   if (!result.problem.empty()) {
@@ -124,8 +159,8 @@ json claim_json(const Report& report, const ClaimResult& result) {
                {"undefined_runs", result.undefined_first},
                {"best_matching_expect", claim_point_json(report, result.first)},
                {"best_not_matching_expect", claim_point_json(report, result.other)}};
-    if (result.verdict != "not measured")
-      details["best"] = claim_point_json(report, result.verdict == "confirmed" ? result.first : result.other);
+    if (result.verdict != Verdict::not_measured)
+      details["best"] = claim_point_json(report, result.verdict == Verdict::confirmed ? result.first : result.other);
   } else if (result.kind == "better") {
     details = {{"direction", direction_text(result.quantity)},
                {"run_runs", result.first_count},
@@ -133,7 +168,20 @@ json claim_json(const Report& report, const ClaimResult& result) {
                {"failed_runs", result.failed_first + result.failed_other},
                {"undefined_runs", result.undefined_first + result.undefined_other},
                {"worst_of_run", claim_point_json(report, result.first)},
-               {"best_of_than", claim_point_json(report, result.other)}};
+               {"best_of_than", claim_point_json(report, result.other)},
+               {"pairs", result.pairs},
+               {"pairs_better", result.pairs_holding}};
+  } else if (result.kind == "same") {
+    details = {{"run_runs", result.first_count},
+               {"than_runs", result.other_count},
+               {"failed_runs", result.failed_first + result.failed_other},
+               {"undefined_runs", result.undefined_first + result.undefined_other},
+               {"absolute_tolerance", result.absolute_tolerance},
+               {"relative_tolerance", result.relative_tolerance},
+               {"pairs", result.pairs},
+               {"pairs_within", result.pairs_holding},
+               {"deciding_run", claim_point_json(report, result.first)},
+               {"deciding_than", claim_point_json(report, result.other)}};
   } else {
     json groups = json::array();
     const LinearGroup* only = nullptr;
@@ -159,23 +207,16 @@ json claim_json(const Report& report, const ClaimResult& result) {
   return out;
 }
 
-// "3 of 4 claims confirmed (1 not confirmed)": the summary's line, empty without claims.
+// "3 of 4 claims confirmed (1 refuted).": the summary's line, empty without claims.
 std::string claims_count_text(const Report& report) {
   if (report.claims.empty()) return "";
-  size_t confirmed = 0, refuted = 0, unmeasured = 0;
-  for (const ClaimResult& result : report.claims) {
-    if (result.verdict == "confirmed")
-      ++confirmed;
-    else if (result.verdict == "not confirmed")
-      ++refuted;
-    else
-      ++unmeasured;
-  }
-  std::vector<std::string> rest;
-  if (refuted) rest.push_back(fmt::format("{} not confirmed", refuted));
-  if (unmeasured) rest.push_back(fmt::format("{} not measured", unmeasured));
-  return fmt::format("{} of {} claim{} confirmed{}.", confirmed, report.claims.size(),
-                     report.claims.size() == 1 ? "" : "s", rest.empty() ? "" : " (" + join(rest, ", ") + ")");
+  return count_claims(report).sentence();
+}
+
+ClaimCounts count_claims(const Report& report) {
+  ClaimCounts counts;
+  for (const ClaimResult& result : report.claims) counts.add(result.verdict);
+  return counts;
 }
 
 }  // namespace causticbench::report_detail

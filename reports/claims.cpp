@@ -1,8 +1,11 @@
 // The claims of experiment.json checked on the stored runs (docs/reports.md, "Claims"): "best" (the
-// best run matches a filter), "better" (every run of one filter beats every run of another) and
-// "linear" (a quantity grows linearly with a knob, per group of the other knobs). Only the verdicts and
+// best run matches a filter), "better" (every run of one filter beats every run of another), "same"
+// (every run of one filter lies within a tolerance of every run of another) and "linear" (a quantity
+// grows linearly with a knob, per group of the other knobs). A claim over several pairs or groups is
+// "partly" confirmed when some hold and others do not (reports/claim_verdicts.h). Only the verdicts and
 // the numbers behind them are computed here; claim_evidence.cpp puts them into words.
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <set>
 
@@ -109,8 +112,9 @@ void evaluate_best(const Report& report, ClaimResult& result) {
   result.first = extreme(expected, result.quantity, false);
   result.other = extreme(others, result.quantity, false);
   if (points.size() < 2 || !result.first || !result.other) return;
-  result.verdict = quantity_better(result.quantity, result.first->value, result.other->value) ? "confirmed"
-                                                                                            : "not confirmed";
+  // One best run: it matches `expect` or it does not, so there is no "partly".
+  result.verdict = quantity_better(result.quantity, result.first->value, result.other->value) ? Verdict::confirmed
+                                                                                            : Verdict::refuted;
 }
 
 void evaluate_better(const Report& report, ClaimResult& result) {
@@ -124,9 +128,48 @@ void evaluate_better(const Report& report, ClaimResult& result) {
   result.other_count = theirs.size();
   result.first = extreme(mine, result.quantity, true);
   result.other = extreme(theirs, result.quantity, false);
-  if (!result.first || !result.other) return;
-  result.verdict = quantity_better(result.quantity, result.first->value, result.other->value) ? "confirmed"
-                                                                                            : "not confirmed";
+  // Every pair counts: all beat (the worst of `run` beats the best of `than`), none, or some.
+  for (const ClaimPoint& a : mine)
+    for (const ClaimPoint& b : theirs) {
+      ++result.pairs;
+      result.pairs_holding += quantity_better(result.quantity, a.value, b.value);
+    }
+  result.verdict = verdict_of_count(result.pairs_holding, result.pairs);
+}
+
+// How far |a - b| lies beyond what the claim's tolerances allow for the pair (<= 0: within).
+double excess_over_tolerance(const ClaimResult& result, double a, double b) {
+  double allowed = std::max(result.absolute_tolerance,
+                            result.relative_tolerance * std::max(std::abs(a), std::abs(b)));
+  return std::abs(a - b) - allowed;
+}
+
+void evaluate_same(const Report& report, ClaimResult& result) {
+  result.absolute_tolerance = number(result.claim, "absolute_tolerance").value_or(0.0);
+  result.relative_tolerance = number(result.claim, "relative_tolerance").value_or(0.0);
+  std::vector<ClaimPoint> mine =
+      claim_points(report, string_member(result.claim, "run"), result.quantity, result.failed_first,
+                   result.undefined_first);
+  std::vector<ClaimPoint> theirs =
+      claim_points(report, string_member(result.claim, "than"), result.quantity, result.failed_other,
+                   result.undefined_other);
+  result.first_count = mine.size();
+  result.other_count = theirs.size();
+  // The evidence names the pair that decides the most: the one farthest beyond its tolerance (when all
+  // are within, the one nearest to its edge).
+  std::optional<double> worst;
+  for (const ClaimPoint& a : mine)
+    for (const ClaimPoint& b : theirs) {
+      double excess = excess_over_tolerance(result, a.value, b.value);
+      ++result.pairs;
+      result.pairs_holding += excess <= 0.0;
+      if (!worst || excess > *worst) {
+        worst = excess;
+        result.first = a;
+        result.other = b;
+      }
+    }
+  result.verdict = verdict_of_count(result.pairs_holding, result.pairs);
 }
 
 void evaluate_linear(const Report& report, ClaimResult& result) {
@@ -180,15 +223,17 @@ void evaluate_linear(const Report& report, ClaimResult& result) {
     group->xs.push_back(xs[p]);
     group->ys.push_back(ys[p]);
   }
-  bool any = false, all = true;
+  // Every fitted group counts: all pass, none, or some (partly: the line holds for some settings of the
+  // other knobs and not for others).
+  size_t fitted = 0, passed = 0;
   for (LinearGroup& group : result.groups) {
     fit_line(group);
     if (!group.fitted) continue;
     group.passed = group.r2 >= result.min_r2;
-    any = true;
-    all = all && group.passed;
+    ++fitted;
+    passed += group.passed;
   }
-  if (any) result.verdict = all ? "confirmed" : "not confirmed";
+  result.verdict = verdict_of_count(passed, fitted);
 }
 
 }  // namespace
@@ -200,27 +245,31 @@ void evaluate_claims(Report& report) {
     ClaimResult result;
     result.claim = claim;
     result.kind = string_member(claim, "kind");
-    result.verdict = "not measured";
+    result.verdict = Verdict::not_measured;
     std::vector<std::string> needed;
     if (result.kind == "best")
       needed = {"metric", "among", "expect"};
-    else if (result.kind == "better")
+    else if (result.kind == "better" || result.kind == "same")
       needed = {"metric", "run", "than"};
     else if (result.kind == "linear")
       needed = {"x", "y", "among"};
     else
-      result.problem = "unknown kind '" + result.kind + "' (expected best, better or linear)";
+      result.problem = "unknown kind '" + result.kind + "' (expected best, better, same or linear)";
     for (const std::string& field : needed)
       if (!member(claim, field).is_string() && result.problem.empty())
         result.problem = "the claim has no '" + field + "'";
     result.quantity = string_member(claim, result.kind == "linear" ? "y" : "metric");
+    // `same` compares values, not directions: any registered quantity will do, as for linear's y.
+    const bool needs_direction = result.kind == "best" || result.kind == "better";
     if (result.problem.empty() && !find_quantity(result.quantity))
-      result.problem = "'" + result.quantity + "' is not " + expected_quantity_text(result.quantity, result.kind != "linear");
+      result.problem = "'" + result.quantity + "' is not " + expected_quantity_text(result.quantity, needs_direction);
     if (result.problem.empty()) {
       if (result.kind == "best")
         evaluate_best(report, result);
       else if (result.kind == "better")
         evaluate_better(report, result);
+      else if (result.kind == "same")
+        evaluate_same(report, result);
       else
         evaluate_linear(report, result);
     }

@@ -127,18 +127,17 @@ std::string html_document(const Report& report) {
         "<div class=\"scroll\"><table class=\"claims\"><thead><tr><th>claim</th><th>verdict</th><th>evidence</th>"
         "</tr></thead><tbody>\n";
     for (const ClaimResult& result : report.claims) {
-      const char* badge = result.verdict == "confirmed"       ? "confirmed"
-                          : result.verdict == "not confirmed" ? "refuted"
-                                                              : "unmeasured";
+      const char* badge = verdict_badge(result.verdict);
       out += "<tr><td class=\"claim\">" + html_escape(string_member(result.claim, "text", "(no text)")) +
              "<div class=\"kind\">" + html_escape(result.kind) + "</div></td><td><span class=\"badge " + badge + "\">" +
-             html_escape(result.verdict) + "</span></td><td class=\"evidence\">" +
+             html_escape(verdict_name(result.verdict)) + "</span></td><td class=\"evidence\">" +
              claim_evidence(report, result, Format::html) + "</td></tr>\n";
     }
     out += "</tbody></table></div>\n";
     out +=
         "<p class=\"caption\">The paper's claims (experiment.json \"claims\") checked on the finished runs: green "
-        "confirmed, red not confirmed, grey not measured (too few finished runs match).</p>\n";
+        "confirmed, amber partly (true for some of the pairs or groups it covers, not for others), red refuted, "
+        "grey not measured (too few finished runs match).</p>\n";
   }
 
   out += "<h2 id=\"results\">Results</h2>\n";

@@ -89,7 +89,7 @@ std::string markdown_document(const Report& report) {
     claims.header = {"claim", "verdict", "evidence"};
     for (const ClaimResult& result : report.claims)
       claims.rows.push_back({{string_member(result.claim, "text", "(no text)")},
-                             {result.verdict},
+                             {verdict_name(result.verdict)},
                              {claim_evidence(report, result, Format::markdown)}});
     markdown_table(out, claims);
   }

@@ -69,11 +69,7 @@ ReportSummary write_report(const std::string& experiment_folder) {
   summary.failed = report.failed_count();
   summary.missing = report.missing.size();
   summary.plots = report.plots.size();
-  summary.claims = report.claims.size();
-  for (const ClaimResult& result : report.claims) {
-    if (result.verdict == "confirmed") ++summary.claims_confirmed;
-    if (result.verdict == "not confirmed") ++summary.claims_not_confirmed;
-  }
+  summary.claims = count_claims(report);
   write_text_atomically(summary.csv, results_csv(report));
   write_text_atomically(summary.json, results_json(report));
   write_text_atomically(summary.markdown, markdown_document(report));

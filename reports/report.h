@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "reports/claim_verdicts.h"
+
 namespace causticbench {
 
 struct ReportSummary {
@@ -17,8 +19,7 @@ struct ReportSummary {
   size_t failed = 0;   // of those, runs whose status is not "ok"
   size_t missing = 0;  // runs named in experiment.json without a record.json (not run yet)
   size_t plots = 0;    // Vega-Lite plots embedded in report.html
-  size_t claims = 0;   // claims of experiment.json checked, and of those the ones confirmed / not confirmed
-  size_t claims_confirmed = 0, claims_not_confirmed = 0;
+  ClaimCounts claims;  // the claims of experiment.json checked, by verdict
 };
 
 // Reads experiment.json, environment.json, runs/*/record.json, runs/*/frame_*.exr and the reference

@@ -27,6 +27,7 @@
 #include "metrics/metrics.h"
 #include "reports/cost_views.h"
 #include "experiments/quantity_registry.h"
+#include "reports/claim_verdicts.h"
 #include "reports/report_text.h"
 
 namespace causticbench::report_detail {
@@ -149,15 +150,21 @@ struct ClaimPoint {
 
 struct ClaimResult {
   json claim;                // as experiment.json states it
-  std::string kind, verdict;  // verdict: "confirmed", "not confirmed" or "not measured"
-  std::string quantity;      // metric (best, better) or y (linear)
+  std::string kind;
+  Verdict verdict = Verdict::not_measured;
+  std::string quantity;      // metric (best, better, same) or y (linear)
   std::string problem;       // a malformed claim: what is wrong with it
   // best: the runs matching `among` (with a value), split by `expect`.
-  // better: the runs matching `run` (first) and `than` (other).
+  // better, same: the runs matching `run` (first) and `than` (other).
   size_t first_count = 0, other_count = 0, failed_first = 0, failed_other = 0;
   size_t undefined_first = 0, undefined_other = 0;  // ok runs that match but whose value is undefined
   std::optional<ClaimPoint> first, other;  // best: best matching / not matching `expect`;
-                                           // better: worst of `run`, best of `than`
+                                           // better: worst of `run`, best of `than`;
+                                           // same: the pair farthest beyond (or nearest to) its tolerance
+  // better, same: every (run, than) pair, and how many of them hold (beat / lie within the tolerance).
+  size_t pairs = 0, pairs_holding = 0;
+  // same: the tolerances (absolute, relative to the larger magnitude of the pair; 0 when not given).
+  double absolute_tolerance = 0.0, relative_tolerance = 0.0;
   // linear
   std::vector<std::string> group_by;
   std::vector<LinearGroup> groups;

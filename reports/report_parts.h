@@ -116,8 +116,10 @@ enum class Format { plain, markdown, html };
 std::string claim_evidence(const Report& report, const ClaimResult& result, Format format);
 // The claim as experiment.json states it, with "verdict", "evidence" (plain text) and "details".
 json claim_json(const Report& report, const ClaimResult& result);
-// "3 of 4 claims confirmed (1 not confirmed).": the summary's line, empty without claims.
+// "3 of 4 claims confirmed (1 refuted).": the summary's line, empty without claims.
 std::string claims_count_text(const Report& report);
+// The report's claims counted by verdict.
+ClaimCounts count_claims(const Report& report);
 
 // ---------------------------------------------------------------------------------------------------
 // findings.cpp: the summary at the top of the report.

@@ -100,11 +100,7 @@ SummaryFiles write_summary(const std::vector<std::string>& experiment_folders, c
   files.experiments = summary.experiments.size();
   files.scenes = summary.scenes.size();
   for (const Report& report : summary.experiments)
-    for (const ClaimResult& result : report.claims) {
-      ++files.claims;
-      files.claims_confirmed += result.verdict == "confirmed";
-      files.claims_not_confirmed += result.verdict == "not confirmed";
-    }
+    for (const ClaimResult& result : report.claims) files.claims.add(result.verdict);
   for (size_t s = 0; s < summary.scenes.size(); ++s) {
     std::vector<std::string> parts;
     for (const BudgetWinner& winner : summary.winners) {

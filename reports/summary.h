@@ -9,12 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "reports/claim_verdicts.h"
+
 namespace causticbench {
 
 struct SummaryFiles {
   std::string html, markdown, json;  // the paths written
   size_t experiments = 0, scenes = 0;  // scenes: experiment variants with a measured run
-  size_t claims = 0, claims_confirmed = 0, claims_not_confirmed = 0;
+  ClaimCounts claims;  // every experiment's claims, by verdict
   std::vector<std::string> headlines;  // per scene, the best method of the largest budget (plain text)
 };
 

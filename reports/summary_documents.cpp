@@ -104,7 +104,8 @@ Table claims_table(const StudySummary& summary) {
       std::string text = string_member(result.claim, "text", result.claim.dump());
       table.rows.push_back({{report.name},
                             {text},
-                            {result.verdict, result.verdict == "confirmed", false, result.verdict == "not confirmed"},
+                            {verdict_name(result.verdict), result.verdict == Verdict::confirmed, false,
+                             result.verdict == Verdict::refuted},
                             {claim_evidence(report, result, Format::plain)}});
     }
   }
@@ -121,15 +122,10 @@ void break_even_sections(const StudySummary& summary, Emit emit) {
 }
 
 std::string claims_total(const StudySummary& summary) {
-  size_t all = 0, confirmed = 0, refuted = 0;
+  ClaimCounts counts;
   for (const Report& report : summary.experiments)
-    for (const ClaimResult& result : report.claims) {
-      ++all;
-      confirmed += result.verdict == "confirmed";
-      refuted += result.verdict == "not confirmed";
-    }
-  return fmt::format("{} claims: {} confirmed, {} not confirmed, {} not measured.", all, confirmed, refuted,
-                     all - confirmed - refuted);
+    for (const ClaimResult& result : report.claims) counts.add(result.verdict);
+  return fmt::format("{} claims: {}.", counts.total, counts.breakdown());
 }
 
 const char* kIntroduction =

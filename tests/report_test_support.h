@@ -130,13 +130,13 @@ inline const char* const kFailure = "out of memory: photon buffer exceeded 2 GiB
 //   pinhole samples=1600: failed
 // (render_ms median = 0.75 x frame ms.) Its claims and their verdicts:
 //   0 best relmse among photon_map, expect k=50: 0.005 (k=50) beats 0.05 (k=10)          confirmed
-//   1 best psnr among pinhole, expect samples=400: samples=100 has the higher PSNR       not confirmed
+//   1 best psnr among pinhole, expect samples=400: samples=100 has the higher PSNR       refuted
 //   2 better frame_ms, photons=10000 (5 ms) than every pinhole run (best 8 ms)           confirmed
 //   3 better relmse, samples=1600 (failed only) than photon_map                          not measured
 //   4 linear render_ms in photons among photon_map: grouped by k; k=50 has 3 points,
 //     R^2 = 256/259 >= 0.98; k=10 has 1 point and is not fitted                          confirmed
 //   5 linear frame_ms in samples among pinhole: 2 ok points                              not measured
-//   6 linear render_ms in photons among photon_map,k=50 with min_r2 0.99: 256/259 < 0.99 not confirmed
+//   6 linear render_ms in photons among photon_map,k=50 with min_r2 0.99: 256/259 < 0.99 refuted
 // The synthetic results folder above, written afresh for each test (removed after a passing one, unless
 // CAUSTICBENCH_KEEP_REPORT is set).
 class ReportTest : public ::testing::Test {

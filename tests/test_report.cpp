@@ -161,17 +161,18 @@ constexpr double kPhotonsR2 = 256.0 / 259.0;
 
 TEST_F(ReportTest, ClaimsAreCheckedOnTheOkRuns) {
   ReportSummary summary = write_report(folder.string());
-  EXPECT_EQ(summary.claims, 7u);
-  EXPECT_EQ(summary.claims_confirmed, 3u);
-  EXPECT_EQ(summary.claims_not_confirmed, 2u);
+  EXPECT_EQ(summary.claims.total, 7u);
+  EXPECT_EQ(summary.claims.of(Verdict::confirmed), 3u);
+  EXPECT_EQ(summary.claims.of(Verdict::refuted), 2u);
+  EXPECT_EQ(summary.claims.of(Verdict::partly), 0u);
 
   json results = json::parse(read_text(summary.json));
   const json& claims = results["claims"];
   ASSERT_EQ(claims.size(), 7u);
   std::vector<std::string> verdicts;
   for (const json& claim : claims) verdicts.push_back(claim["verdict"]);
-  EXPECT_EQ(verdicts, (std::vector<std::string>{"confirmed", "not confirmed", "confirmed", "not measured", "confirmed",
-                                                "not measured", "not confirmed"}));
+  EXPECT_EQ(verdicts, (std::vector<std::string>{"confirmed", "refuted", "confirmed", "not measured", "confirmed",
+                                                "not measured", "refuted"}));
   EXPECT_EQ(claims[0]["text"], "More photons at k=50 give the least error") << "the claim as stated is kept";
   EXPECT_EQ(claims[0]["among"], "method=photon_map");
   // best: the best run and the best run not matching `expect`.
@@ -188,6 +189,8 @@ TEST_F(ReportTest, ClaimsAreCheckedOnTheOkRuns) {
   EXPECT_EQ(claims[2]["details"]["worst_of_run"]["value"], 5.0);
   EXPECT_EQ(claims[2]["details"]["best_of_than"]["key"], "pin_100");
   EXPECT_EQ(claims[2]["details"]["best_of_than"]["value"], 8.0);
+  EXPECT_EQ(claims[2]["details"]["pairs"], 2);
+  EXPECT_EQ(claims[2]["details"]["pairs_better"], 2);
   EXPECT_EQ(claims[3]["details"]["run_runs"], 0);
   EXPECT_EQ(claims[3]["details"]["failed_runs"], 1);
   // linear, grouped by k: the k=50 sweep is fitted, the single k=10 run is not.
@@ -214,21 +217,21 @@ TEST_F(ReportTest, ClaimsAreCheckedOnTheOkRuns) {
   // After the summary, before the results; the count in the summary.
   EXPECT_LT(md.find("## Summary"), md.find("## Claims"));
   EXPECT_LT(md.find("## Claims"), md.find("## Results"));
-  EXPECT_NE(md.find("- 3 of 7 claims confirmed (2 not confirmed, 2 not measured)."), std::string::npos) << md;
+  EXPECT_NE(md.find("- 3 of 7 claims confirmed (2 refuted, 2 not measured)."), std::string::npos) << md;
   EXPECT_NE(md.find("| claim | verdict | evidence |"), std::string::npos);
   for (const std::string& row : {
            std::string("| More photons at k=50 give the least error | confirmed | best of 4 runs matching "
                        "`method=photon_map`: photon_map k=50 photons=1000000 (relmse 0.005), which matches `k=50`; "
                        "best run not matching it: photon_map k=10 photons=100000 (relmse 0.05). relmse: lower is "
                        "better. |"),
-           std::string("| 400 samples give the sharpest image | not confirmed | best of 2 runs matching "
+           std::string("| 400 samples give the sharpest image | refuted | best of 2 runs matching "
                        "`method=pinhole` (1 failed run not counted): pinhole samples=100 (psnr 35.23), which does "
                        "not match `samples=400`; best run matching it: pinhole samples=400 (psnr 33.98). psnr: "
                        "higher is better. |"),
            std::string("| 10^4 photons are faster than any pinhole run | confirmed | worst of 1 run matching "
                        "`method=photon_map,photons=10000`: photon_map k=50 photons=10000 (frame_ms 5); best of 2 "
                        "runs matching `method=pinhole` (1 failed run not counted): pinhole samples=100 (frame_ms "
-                       "8). frame_ms: lower is better. |"),
+                       "8). Better in 2 of 2 pairs. frame_ms: lower is better. |"),
            std::string("| 1600 samples beat photon mapping | not measured | 0 runs with a relmse value match "
                        "`samples=1600` (1 failed run not counted), 4 match `method=photon_map`: the check needs at "
                        "least 1 on each side. |"),
@@ -238,7 +241,7 @@ TEST_F(ReportTest, ClaimsAreCheckedOnTheOkRuns) {
            std::string("| Pinhole time is linear in samples | not measured | frame_ms against samples over 2 runs "
                        "matching `method=pinhole` (1 failed run not counted): no set has 3 points with different "
                        "samples values to fit. |"),
-           std::string("| Render time is tightly linear in photons | not confirmed | render_ms against photons over "
+           std::string("| Render time is tightly linear in photons | refuted | render_ms against photons over "
                        "3 runs matching `method=photon_map,k=50`: render_ms = 2.523e-05 \u00d7 photons + 4.917, "
                        "R\u00b2 0.9884 < 0.99, n = 3. |")})
     EXPECT_NE(md.find(row), std::string::npos) << row << "\n" << md;
@@ -246,14 +249,15 @@ TEST_F(ReportTest, ClaimsAreCheckedOnTheOkRuns) {
   // HTML: one coloured badge per claim, the section between the summary and the results.
   std::string page = read_text(summary.html);
   EXPECT_EQ(count(page, "<span class=\"badge confirmed\">confirmed</span>"), 3u);
-  EXPECT_EQ(count(page, "<span class=\"badge refuted\">not confirmed</span>"), 2u);
+  EXPECT_EQ(count(page, "<span class=\"badge refuted\">refuted</span>"), 2u);
   EXPECT_EQ(count(page, "<span class=\"badge unmeasured\">not measured</span>"), 2u);
   EXPECT_LT(page.find("class=\"findings\""), page.find("id=\"claims\""));
   EXPECT_LT(page.find("id=\"claims\""), page.find("id=\"results\""));
   EXPECT_NE(page.find("<code>method=photon_map,k=50</code>"), std::string::npos);
 }
 
-// Runs that differ in other knobs are fitted per group; every group with 3 points must pass.
+// Runs that differ in other knobs are fitted per group; every group with 3 points must pass for
+// "confirmed", and when only some do the claim is "partly" confirmed.
 TEST_F(ReportTest, LinearClaimsFitEveryGroupOfTheOtherKnobs) {
   // Two more k=10 runs: render_ms 30, 10.5, 15 at 1e4, 1e5, 1e6 photons is far from a line.
   std::vector<FakeRun> more = {{"pm_1e4_k10",
@@ -282,7 +286,7 @@ TEST_F(ReportTest, LinearClaimsFitEveryGroupOfTheOtherKnobs) {
   json results = json::parse(read_text(summary.json));
   ASSERT_EQ(results["claims"].size(), 1u);
   const json& claim = results["claims"][0];
-  EXPECT_EQ(claim["verdict"], "not confirmed") << claim.dump(2);
+  EXPECT_EQ(claim["verdict"], "partly") << claim.dump(2) << "one of the two fitted groups is linear";
   const json& groups = claim["details"]["groups"];
   ASSERT_EQ(groups.size(), 2u);
   EXPECT_NEAR(groups[0]["r2"].get<double>(), kPhotonsR2, 1e-12);
@@ -295,11 +299,13 @@ TEST_F(ReportTest, LinearClaimsFitEveryGroupOfTheOtherKnobs) {
   EXPECT_EQ(groups[1]["passed"], false);
   EXPECT_FALSE(claim["details"].contains("r2")) << "two fitted groups: no single fit at the top";
   std::string md = read_text(summary.markdown);
-  EXPECT_NE(md.find("- 0 of 1 claim confirmed (1 not confirmed)."), std::string::npos) << md;
+  EXPECT_NE(md.find("- 0 of 1 claim confirmed (1 partly)."), std::string::npos) << md;
   EXPECT_NE(md.find("k=50: render_ms = 2.523e-05 \u00d7 photons + 4.917, R\u00b2 0.9884 \u2265 0.98, n = 3; k=10: "
                     "render_ms = "),
             std::string::npos)
       << md;
+  EXPECT_NE(md.find("Linear in 1 of 2 fitted groups."), std::string::npos) << md;
+  EXPECT_NE(read_text(summary.html).find("<span class=\"badge partly\">partly</span>"), std::string::npos);
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -123,7 +123,7 @@ class VariantReportTest : public ::testing::Test {
   }
 
   //   0 render_ms linear in receiver_pixels over the pinhole samples=1000 runs: exact, one group   confirmed
-  //   1 render_ms linear in receiver_pixels over photon_map: 10, 40, 11                          not confirmed
+  //   1 render_ms linear in receiver_pixels over photon_map: 10, 40, 11                          refuted
   //   2 frame_ms linear in samples over pinhole: grouped by variant (not by receiver_pixels);
   //     at most 2 points per group                                                               not measured
   //   3 better frame_ms: variant=96x72 pinhole samples=1000 (8 ms) than any 384x288 run (12 ms)  confirmed
@@ -302,7 +302,7 @@ TEST_F(VariantReportTest, LinearClaimsOverReceiverPixels) {
   ASSERT_EQ(claims.size(), 4u);
   std::vector<std::string> verdicts;
   for (const json& claim : claims) verdicts.push_back(claim["verdict"]);
-  EXPECT_EQ(verdicts, (std::vector<std::string>{"confirmed", "not confirmed", "not measured", "confirmed"}));
+  EXPECT_EQ(verdicts, (std::vector<std::string>{"confirmed", "refuted", "not measured", "confirmed"}));
   // Exactly linear: one group over the three variants (the variant does not split it).
   const json& exact = claims[0]["details"];
   EXPECT_EQ(exact["group_by"], json::array()) << exact.dump(2);
