@@ -103,7 +103,7 @@ nlohmann::json read_claims(const ConfigNode& node, const std::vector<std::string
     ConfigNode claim = node.at(i);
     nlohmann::json out;
     out["text"] = claim.string("text");
-    std::string kind = claim.choice("kind", {"best", "better", "linear"});
+    std::string kind = claim.choice("kind", {"best", "better", "linear", "ratio"});
     out["kind"] = kind;
     if (kind == "best") {
       out["metric"] = read_quantity(claim, "metric", metrics, true);
@@ -113,6 +113,11 @@ nlohmann::json read_claims(const ConfigNode& node, const std::vector<std::string
       out["metric"] = read_quantity(claim, "metric", metrics, true);
       out["run"] = claim.string("run");
       out["than"] = claim.string("than");
+    } else if (kind == "ratio") {
+      out["y"] = read_quantity(claim, "y", metrics, false);
+      out["run"] = claim.string("run");
+      out["than"] = claim.string("than");
+      out["at_most"] = claim.number("at_most", 0.0, 1e12);  // the largest ratio that confirms the claim
     } else {
       out["x"] = claim.string("x");  // a knob or a quantity (receiver_pixels)
       out["y"] = read_quantity(claim, "y", metrics, false);

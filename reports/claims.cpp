@@ -1,7 +1,8 @@
 // The claims of experiment.json checked on the stored runs (docs/reports.md, "Claims"): "best" (the
-// best run matches a filter), "better" (every run of one filter beats every run of another) and
-// "linear" (a quantity grows linearly with a knob, per group of the other knobs). Only the verdicts and
-// the numbers behind them are computed here; claim_evidence.cpp puts them into words.
+// best run matches a filter), "better" (every run of one filter beats every run of another),
+// "linear" (a quantity grows linearly with a knob, per group of the other knobs) and "ratio" (one
+// run's quantity over another's stays within a bound: filtered over unfiltered render time). Only the
+// verdicts and the numbers behind them are computed here; claim_evidence.cpp puts them into words.
 #include <algorithm>
 #include <iterator>
 #include <set>
@@ -191,6 +192,26 @@ void evaluate_linear(const Report& report, ClaimResult& result) {
   if (any) result.verdict = all ? "confirmed" : "not confirmed";
 }
 
+// The ratio is only stated for one run against one run: with several on a side, which pair the number
+// describes would be a choice the reader cannot see, so the claim is not measured instead.
+void evaluate_ratio(const Report& report, ClaimResult& result) {
+  result.at_most = *number(result.claim, "at_most");  // checked finite by evaluate_claims
+  std::vector<ClaimPoint> mine =
+      claim_points(report, string_member(result.claim, "run"), result.quantity, result.failed_first,
+                   result.undefined_first);
+  std::vector<ClaimPoint> theirs =
+      claim_points(report, string_member(result.claim, "than"), result.quantity, result.failed_other,
+                   result.undefined_other);
+  result.first_count = mine.size();
+  result.other_count = theirs.size();
+  if (mine.size() != 1 || theirs.size() != 1) return;
+  result.first = mine.front();
+  result.other = theirs.front();
+  if (!(result.other->value > 0.0)) return;  // no ratio to a zero or negative base
+  result.ratio = result.first->value / result.other->value;
+  result.verdict = result.ratio <= result.at_most ? "confirmed" : "not confirmed";
+}
+
 }  // namespace
 
 void evaluate_claims(Report& report) {
@@ -208,21 +229,28 @@ void evaluate_claims(Report& report) {
       needed = {"metric", "run", "than"};
     else if (result.kind == "linear")
       needed = {"x", "y", "among"};
+    else if (result.kind == "ratio")
+      needed = {"y", "run", "than"};
     else
-      result.problem = "unknown kind '" + result.kind + "' (expected best, better or linear)";
+      result.problem = "unknown kind '" + result.kind + "' (expected best, better, linear or ratio)";
     for (const std::string& field : needed)
       if (!member(claim, field).is_string() && result.problem.empty())
         result.problem = "the claim has no '" + field + "'";
-    result.quantity = string_member(claim, result.kind == "linear" ? "y" : "metric");
+    if (result.kind == "ratio" && result.problem.empty() && !finite(number(claim, "at_most")))
+      result.problem = "the claim has no 'at_most' bound";
+    bool ranked = result.kind == "best" || result.kind == "better";  // linear and ratio need no direction
+    result.quantity = string_member(claim, ranked ? "metric" : "y");
     if (result.problem.empty() && !find_quantity(result.quantity))
-      result.problem = "'" + result.quantity + "' is not " + expected_quantity_text(result.quantity, result.kind != "linear");
+      result.problem = "'" + result.quantity + "' is not " + expected_quantity_text(result.quantity, ranked);
     if (result.problem.empty()) {
       if (result.kind == "best")
         evaluate_best(report, result);
       else if (result.kind == "better")
         evaluate_better(report, result);
-      else
+      else if (result.kind == "linear")
         evaluate_linear(report, result);
+      else
+        evaluate_ratio(report, result);
     }
     report.claims.push_back(std::move(result));
   }

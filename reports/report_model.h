@@ -150,19 +150,22 @@ struct ClaimPoint {
 struct ClaimResult {
   json claim;                // as experiment.json states it
   std::string kind, verdict;  // verdict: "confirmed", "not confirmed" or "not measured"
-  std::string quantity;      // metric (best, better) or y (linear)
+  std::string quantity;      // metric (best, better) or y (linear, ratio)
   std::string problem;       // a malformed claim: what is wrong with it
   // best: the runs matching `among` (with a value), split by `expect`.
-  // better: the runs matching `run` (first) and `than` (other).
+  // better, ratio: the runs matching `run` (first) and `than` (other).
   size_t first_count = 0, other_count = 0, failed_first = 0, failed_other = 0;
   size_t undefined_first = 0, undefined_other = 0;  // ok runs that match but whose value is undefined
   std::optional<ClaimPoint> first, other;  // best: best matching / not matching `expect`;
-                                           // better: worst of `run`, best of `than`
+                                           // better: worst of `run`, best of `than`;
+                                           // ratio: the one run on each side
   // linear
   std::vector<std::string> group_by;
   std::vector<LinearGroup> groups;
   size_t points = 0;
   double min_r2 = 0.98;
+  // ratio: first's value over other's (NAN when not measured), and the bound it must not exceed
+  double ratio = NAN, at_most = NAN;
 };
 
 struct Report {

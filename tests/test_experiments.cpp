@@ -208,14 +208,18 @@ TEST(Experiment, ClaimsAreValidated) {
   std::string good = std::string(kExperiment) + R"(claims:
   - {text: more photons help, kind: better, metric: relmse, run: photons=2000, than: photons=1000}
   - {text: linear time, kind: linear, x: photons, y: render_ms, among: method=photon_map}
+  - {text: cheap, kind: ratio, y: render_ms, run: photons=2000, than: photons=1000, at_most: 3}
 )";
   Experiment experiment = load_experiment(folder.write("good.yaml", good));
-  ASSERT_EQ(experiment.report.claims.size(), 2u);
+  ASSERT_EQ(experiment.report.claims.size(), 3u);
   EXPECT_EQ(experiment.report.claims[1]["min_r2"].get<double>(), 0.98);
+  EXPECT_EQ(experiment.report.claims[2]["at_most"].get<double>(), 3.0);
   std::string message = error_of(folder, replace(good, "metric: relmse", "metric: relmes"));
   EXPECT_NE(message.find("did you mean 'relmse'"), std::string::npos) << message;
   message = error_of(folder, replace(good, "kind: linear", "kind: quadratic"));
-  EXPECT_NE(message.find("one of best, better, linear"), std::string::npos) << message;
+  EXPECT_NE(message.find("one of best, better, linear, ratio"), std::string::npos) << message;
+  message = error_of(folder, replace(good, ", at_most: 3}", "}"));
+  EXPECT_NE(message.find("at_most"), std::string::npos) << "a ratio needs its bound: " << message;
 }
 
 TEST(Experiment, ReportQuantitiesComeFromTheRegistry) {
