@@ -103,7 +103,7 @@ nlohmann::json read_claims(const ConfigNode& node, const std::vector<std::string
     ConfigNode claim = node.at(i);
     nlohmann::json out;
     out["text"] = claim.string("text");
-    std::string kind = claim.choice("kind", {"best", "better", "same", "linear"});
+    std::string kind = claim.choice("kind", {"best", "better", "same", "linear", "ratio"});
     out["kind"] = kind;
     if (kind == "best") {
       out["metric"] = read_quantity(claim, "metric", metrics, true);
@@ -123,6 +123,11 @@ nlohmann::json read_claims(const ConfigNode& node, const std::vector<std::string
         claim.fail_here("a relative_tolerance or an absolute_tolerance (or both) for kind same", "neither");
       out["relative_tolerance"] = claim.number_or("relative_tolerance", 0.0, 0.0, 1e6);
       out["absolute_tolerance"] = claim.number_or("absolute_tolerance", 0.0, 0.0, 1e300);
+    } else if (kind == "ratio") {
+      out["y"] = read_quantity(claim, "y", metrics, false);
+      out["run"] = claim.string("run");
+      out["than"] = claim.string("than");
+      out["at_most"] = claim.number("at_most", 0.0, 1e12);  // the largest ratio that confirms the claim
     } else {
       out["x"] = claim.string("x");  // a knob or a quantity (receiver_pixels)
       out["y"] = read_quantity(claim, "y", metrics, false);

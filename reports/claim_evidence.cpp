@@ -114,6 +114,20 @@ std::string claim_evidence(const Report& report, const ClaimResult& result, Form
                        runs_text(result.other_count), than, other_note, point(*result.other), pairs,
                        direction);
   }
+  if (result.kind == "ratio") {
+    std::string run = code_text(string_member(claim, "run"), format);
+    std::string than = code_text(string_member(claim, "than"), format);
+    if (result.verdict == "not measured") {
+      std::string base =
+          result.other ? fmt::format(" (the base {} is {}: no ratio)", quantity, num(result.other->value)) : "";
+      return fmt::format("{} with a {} value match{} {}{}, {} match{} {}{}: the ratio needs exactly 1 on each side{}.",
+                         runs_text(result.first_count), quantity, result.first_count == 1 ? "es" : "", run,
+                         first_note, result.other_count, result.other_count == 1 ? "es" : "", than, other_note,
+                         base);
+    }
+    return fmt::format("{} / {} = {}\u00d7 ({} {}).", point(*result.first), point(*result.other), num(result.ratio),
+                       result.ratio <= result.at_most ? "\u2264" : ">", num(result.at_most));
+  }
   std::string x = escaped(string_member(claim, "x"), format);
   std::string among = code_text(string_member(claim, "among"), format);
   std::string grouped = result.group_by.empty() ? "" : ", grouped by " + escaped(join(result.group_by, ", "), format);
@@ -182,6 +196,15 @@ json claim_json(const Report& report, const ClaimResult& result) {
                {"pairs_within", result.pairs_holding},
                {"deciding_run", claim_point_json(report, result.first)},
                {"deciding_than", claim_point_json(report, result.other)}};
+  } else if (result.kind == "ratio") {
+    details = {{"run_runs", result.first_count},
+               {"than_runs", result.other_count},
+               {"failed_runs", result.failed_first + result.failed_other},
+               {"undefined_runs", result.undefined_first + result.undefined_other},
+               {"run", claim_point_json(report, result.first)},
+               {"than", claim_point_json(report, result.other)},
+               {"ratio", std::isfinite(result.ratio) ? json(result.ratio) : json(nullptr)},
+               {"at_most", result.at_most}};
   } else {
     json groups = json::array();
     const LinearGroup* only = nullptr;

@@ -1,9 +1,10 @@
 // The claims of experiment.json checked on the stored runs (docs/reports.md, "Claims"): "best" (the
 // best run matches a filter), "better" (every run of one filter beats every run of another), "same"
-// (every run of one filter lies within a tolerance of every run of another) and "linear" (a quantity
-// grows linearly with a knob, per group of the other knobs). A claim over several pairs or groups is
-// "partly" confirmed when some hold and others do not (reports/claim_verdicts.h). Only the verdicts and
-// the numbers behind them are computed here; claim_evidence.cpp puts them into words.
+// (every run of one filter lies within a tolerance of every run of another), "linear" (a quantity
+// grows linearly with a knob, per group of the other knobs) and "ratio" (one run's quantity over
+// another's stays within a bound: filtered over unfiltered render time). A claim over several pairs or
+// groups is "partly" confirmed when some hold and others do not (reports/claim_verdicts.h). Only the
+// verdicts and the numbers behind them are computed here; claim_evidence.cpp puts them into words.
 #include <algorithm>
 #include <cmath>
 #include <iterator>
@@ -236,6 +237,26 @@ void evaluate_linear(const Report& report, ClaimResult& result) {
   result.verdict = verdict_of_count(passed, fitted);
 }
 
+// The ratio is only stated for one run against one run: with several on a side, which pair the number
+// describes would be a choice the reader cannot see, so the claim is not measured instead.
+void evaluate_ratio(const Report& report, ClaimResult& result) {
+  result.at_most = *number(result.claim, "at_most");  // checked finite by evaluate_claims
+  std::vector<ClaimPoint> mine =
+      claim_points(report, string_member(result.claim, "run"), result.quantity, result.failed_first,
+                   result.undefined_first);
+  std::vector<ClaimPoint> theirs =
+      claim_points(report, string_member(result.claim, "than"), result.quantity, result.failed_other,
+                   result.undefined_other);
+  result.first_count = mine.size();
+  result.other_count = theirs.size();
+  if (mine.size() != 1 || theirs.size() != 1) return;
+  result.first = mine.front();
+  result.other = theirs.front();
+  if (!(result.other->value > 0.0)) return;  // no ratio to a zero or negative base
+  result.ratio = result.first->value / result.other->value;
+  result.verdict = result.ratio <= result.at_most ? Verdict::confirmed : Verdict::refuted;
+}
+
 }  // namespace
 
 void evaluate_claims(Report& report) {
@@ -253,16 +274,21 @@ void evaluate_claims(Report& report) {
       needed = {"metric", "run", "than"};
     else if (result.kind == "linear")
       needed = {"x", "y", "among"};
+    else if (result.kind == "ratio")
+      needed = {"y", "run", "than"};
     else
-      result.problem = "unknown kind '" + result.kind + "' (expected best, better, same or linear)";
+      result.problem = "unknown kind '" + result.kind + "' (expected best, better, same, linear or ratio)";
     for (const std::string& field : needed)
       if (!member(claim, field).is_string() && result.problem.empty())
         result.problem = "the claim has no '" + field + "'";
-    result.quantity = string_member(claim, result.kind == "linear" ? "y" : "metric");
-    // `same` compares values, not directions: any registered quantity will do, as for linear's y.
-    const bool needs_direction = result.kind == "best" || result.kind == "better";
+    if (result.kind == "ratio" && result.problem.empty() && !finite(number(claim, "at_most")))
+      result.problem = "the claim has no 'at_most' bound";
+    // best, better and same name a `metric`; linear and ratio a `y`. Only best and better rank, so only
+    // they need a quantity with a better direction (same compares values, as linear's y).
+    const bool ranked = result.kind == "best" || result.kind == "better";
+    result.quantity = string_member(claim, result.kind == "linear" || result.kind == "ratio" ? "y" : "metric");
     if (result.problem.empty() && !find_quantity(result.quantity))
-      result.problem = "'" + result.quantity + "' is not " + expected_quantity_text(result.quantity, needs_direction);
+      result.problem = "'" + result.quantity + "' is not " + expected_quantity_text(result.quantity, ranked);
     if (result.problem.empty()) {
       if (result.kind == "best")
         evaluate_best(report, result);
@@ -270,8 +296,10 @@ void evaluate_claims(Report& report) {
         evaluate_better(report, result);
       else if (result.kind == "same")
         evaluate_same(report, result);
-      else
+      else if (result.kind == "linear")
         evaluate_linear(report, result);
+      else
+        evaluate_ratio(report, result);
     }
     report.claims.push_back(std::move(result));
   }

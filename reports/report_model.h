@@ -152,15 +152,16 @@ struct ClaimResult {
   json claim;                // as experiment.json states it
   std::string kind;
   Verdict verdict = Verdict::not_measured;
-  std::string quantity;      // metric (best, better, same) or y (linear)
+  std::string quantity;      // metric (best, better, same) or y (linear, ratio)
   std::string problem;       // a malformed claim: what is wrong with it
   // best: the runs matching `among` (with a value), split by `expect`.
-  // better, same: the runs matching `run` (first) and `than` (other).
+  // better, same, ratio: the runs matching `run` (first) and `than` (other).
   size_t first_count = 0, other_count = 0, failed_first = 0, failed_other = 0;
   size_t undefined_first = 0, undefined_other = 0;  // ok runs that match but whose value is undefined
   std::optional<ClaimPoint> first, other;  // best: best matching / not matching `expect`;
                                            // better: worst of `run`, best of `than`;
-                                           // same: the pair farthest beyond (or nearest to) its tolerance
+                                           // same: the pair farthest beyond (or nearest to) its tolerance;
+                                           // ratio: the one run on each side
   // better, same: every (run, than) pair, and how many of them hold (beat / lie within the tolerance).
   size_t pairs = 0, pairs_holding = 0;
   // same: the tolerances (absolute, relative to the larger magnitude of the pair; 0 when not given).
@@ -170,6 +171,8 @@ struct ClaimResult {
   std::vector<LinearGroup> groups;
   size_t points = 0;
   double min_r2 = 0.98;
+  // ratio: first's value over other's (NAN when not measured), and the bound it must not exceed
+  double ratio = NAN, at_most = NAN;
 };
 
 struct Report {

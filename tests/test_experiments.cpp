@@ -262,21 +262,25 @@ TEST(Experiment, ClaimsAreValidated) {
   - {text: more photons help, kind: better, metric: relmse, run: photons=2000, than: photons=1000}
   - {text: linear time, kind: linear, x: photons, y: render_ms, among: method=photon_map}
   - {text: same error, kind: same, metric: relmse, run: photons=2000, than: photons=1000, relative_tolerance: 0.1}
+  - {text: cheap, kind: ratio, y: render_ms, run: photons=2000, than: photons=1000, at_most: 3}
 )";
   Experiment experiment = load_experiment(folder.write("good.yaml", good));
-  ASSERT_EQ(experiment.report.claims.size(), 3u);
+  ASSERT_EQ(experiment.report.claims.size(), 4u);
   EXPECT_EQ(experiment.report.claims[1]["min_r2"].get<double>(), 0.98);
   EXPECT_EQ(experiment.report.claims[2]["relative_tolerance"].get<double>(), 0.1);
   EXPECT_EQ(experiment.report.claims[2]["absolute_tolerance"].get<double>(), 0.0) << "unstated: 0";
+  EXPECT_EQ(experiment.report.claims[3]["at_most"].get<double>(), 3.0);
   std::string message = error_of(folder, replace(good, "metric: relmse", "metric: relmes"));
   EXPECT_NE(message.find("did you mean 'relmse'"), std::string::npos) << message;
   message = error_of(folder, replace(good, "kind: linear", "kind: quadratic"));
-  EXPECT_NE(message.find("one of best, better, same, linear"), std::string::npos) << message;
+  EXPECT_NE(message.find("one of best, better, same, linear, ratio"), std::string::npos) << message;
   // `same` needs a tolerance, a non-negative one.
   message = error_of(folder, replace(good, ", relative_tolerance: 0.1", ""));
   EXPECT_NE(message.find("a relative_tolerance or an absolute_tolerance"), std::string::npos) << message;
   message = error_of(folder, replace(good, "relative_tolerance: 0.1", "absolute_tolerance: -1"));
   EXPECT_NE(message.find("absolute_tolerance"), std::string::npos) << message;
+  message = error_of(folder, replace(good, ", at_most: 3}", "}"));
+  EXPECT_NE(message.find("at_most"), std::string::npos) << "a ratio needs its bound: " << message;
 }
 
 TEST(Experiment, ReportQuantitiesComeFromTheRegistry) {

@@ -2,7 +2,7 @@
 // newer version refused, a wrong type named), the quantity registry (every metric, timing, size and
 // counter has a direction; unknown names get a "did you mean"), the equal-time and equal-error views
 // and the break-even count on synthetic points, and, on the synthetic results folder of the report
-// tests, stale runs, any trade-off axes and the views' tables and summary lines.
+// tests, stale runs, any trade-off axes, the views' tables and summary lines, and ratio claims.
 #include <cmath>
 #include <limits>
 #include <set>
@@ -275,6 +275,43 @@ TEST_F(ReportTest, TradeoffsOnAnyAxesAndTheViews) {
   EXPECT_NE(md.find("| 0.01 | **40 ms \u00b7 relmse 0.005 \u00b7 k=50, photons=1000000** | not reached (best relmse 0.03) |"), std::string::npos) << "equal error, target 0.01";
   EXPECT_NE(md.find("not reached (best relmse 0.03)"), std::string::npos) << "pinhole never reaches 0.01";
   EXPECT_EQ(summary.plots, 7u) << "two trade-offs, total cost, convergence, three sweeps";
+}
+
+// Ratio claims on the synthetic runs: pinhole samples=400 renders in 22.5 ms (0.75 x 30), samples=100
+// in 6 ms, so their ratio is 3.75 exactly; photons=1e5 over 1e4 at k=50 in relMSE is 0.0123456789012345
+// / 0.1. A side matching several runs, or only a failed one, is not measured.
+TEST_F(ReportTest, RatioClaimsStateOneRunOverAnother) {
+  auto ratio = [](const std::string& y, const std::string& run, const std::string& than, double at_most) {
+    return json{{"text", run + " over " + than}, {"kind", "ratio"}, {"y", y},
+                {"run", run}, {"than", than}, {"at_most", at_most}};
+  };
+  json experiment = json::parse(read_text(folder / "experiment.json"));
+  experiment["claims"] = json::array({ratio("render_ms", "samples=400", "samples=100", 4),
+                                      ratio("render_ms", "samples=400", "samples=100", 3.5),
+                                      ratio("relmse", "photons=100000,k=50", "photons=10000", 1),
+                                      ratio("render_ms", "method=photon_map", "samples=100", 100),
+                                      ratio("render_ms", "samples=400", "samples=1600", 100)});
+  write_json(folder / "experiment.json", experiment);
+  ReportSummary summary = write_report(folder.string());
+  const json claims = json::parse(read_text(summary.json))["claims"];
+  ASSERT_EQ(claims.size(), 5u);
+  EXPECT_EQ(claims[0]["verdict"], "confirmed") << claims[0].dump(2);
+  EXPECT_EQ(claims[0]["details"]["ratio"].get<double>(), 3.75);
+  EXPECT_EQ(claims[0]["details"]["run"]["key"], "pin_400");
+  EXPECT_EQ(claims[0]["details"]["than"]["key"], "pin_100");
+  EXPECT_NE(claims[0]["evidence"].get<std::string>().find("(render_ms 22.5) / "), std::string::npos)
+      << claims[0]["evidence"];
+  EXPECT_NE(claims[0]["evidence"].get<std::string>().find("(render_ms 6) = 3.75\u00d7 (\u2264 4)."), std::string::npos)
+      << claims[0]["evidence"];
+  EXPECT_EQ(claims[1]["verdict"], "refuted") << "3.75 is above 3.5";
+  EXPECT_EQ(claims[2]["verdict"], "confirmed");
+  EXPECT_DOUBLE_EQ(claims[2]["details"]["ratio"].get<double>(), 0.0123456789012345 / 0.1);
+  EXPECT_EQ(claims[3]["verdict"], "not measured") << "four photon_map runs: which one?";
+  EXPECT_EQ(claims[3]["details"]["run_runs"], 4);
+  EXPECT_TRUE(claims[3]["details"]["ratio"].is_null());
+  EXPECT_EQ(claims[4]["verdict"], "not measured") << "the base run failed";
+  EXPECT_EQ(claims[4]["details"]["failed_runs"], 1);
+  EXPECT_NE(claims[4]["evidence"].get<std::string>().find("needs exactly 1 on each side"), std::string::npos);
 }
 
 // A real run, then its metrics recomputed from the stored images: the same numbers; a metric added
