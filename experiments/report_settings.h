@@ -27,6 +27,9 @@ struct ReportSettings {
   std::vector<double> budgets_ms = kDefaultBudgetsMs;
   std::vector<double> error_targets;  // of the primary metric; empty: chosen from the runs (docs/reports.md)
   std::vector<double> total_cost_frames = kDefaultTotalCostFrames;
+  // `capability_matrix` (experiments/capability_matrix_settings.h): the published matrix, the cases and
+  // the methods' declared capabilities; null when the experiment declares none.
+  nlohmann::json capability_matrix;
 
   nlohmann::json tradeoffs_json() const;
 };

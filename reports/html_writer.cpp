@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "reports/capability_matrix.h"
 #include "reports/report_parts.h"
 #include "templates/plots.js.h"
 #include "templates/report.css.h"
@@ -140,6 +141,8 @@ std::string html_document(const Report& report) {
         "<p class=\"caption\">The paper's claims (experiment.json \"claims\") checked on the finished runs: green "
         "confirmed, red not confirmed, grey not measured (too few finished runs match).</p>\n";
   }
+
+  if (std::optional<CapabilityMatrix> matrix = report_capability_matrix(report)) out += capability_matrix_html(*matrix);
 
   out += "<h2 id=\"results\">Results</h2>\n";
   Table results = results_table(report);
