@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "core/files.h"
+#include "experiments/capability_matrix_settings.h"
 #include "experiments/result_store.h"
 #include "metrics/metrics.h"
 
@@ -285,7 +286,7 @@ nlohmann::json Experiment::to_json() const {
                              {"resolution", {variant.scene.camera.width, variant.scene.camera.height}},
                              {"reference_key", variant.reference_key}});
   }
-  return {{"name", name},
+  nlohmann::json out = {{"name", name},
           {"source", source},
           {"description", description},
           {"scene", scene_path},
@@ -308,6 +309,9 @@ nlohmann::json Experiment::to_json() const {
           {"total_cost_frames", report.total_cost_frames},
           {"case_table", report.case_table},
           {"empty_reference_expected", empty_reference_expected}};
+  // Only where declared, so that every other experiment.json stays as it was.
+  if (!report.capability_matrix.is_null()) out["capability_matrix"] = report.capability_matrix;
+  return out;
 }
 
 Experiment load_experiment(const std::string& path) {
@@ -493,6 +497,8 @@ Experiment load_experiment(const std::string& path) {
     }
   }
   experiment.report = read_report_settings(root, experiment.metrics, experiment.primary_metric);
+  if (std::optional<ConfigNode> matrix = root.optional_child("capability_matrix"))
+    experiment.report.capability_matrix = read_capability_matrix(*matrix, experiment);
   root.finish();
   return experiment;
 }

@@ -31,6 +31,9 @@ struct ReportSettings {
   // case (scene variant) and method setting with its outcome: finite, non-finite, stopped with an error,
   // or against an empty reference. The extremes studies set it.
   bool case_table = false;
+  // `capability_matrix` (experiments/capability_matrix_settings.h): the published matrix, the cases and
+  // the methods' declared capabilities; null when the experiment declares none.
+  nlohmann::json capability_matrix;
 
   nlohmann::json tradeoffs_json() const;
 };

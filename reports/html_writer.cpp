@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "reports/capability_matrix.h"
 #include "reports/report_parts.h"
 #include "templates/plots.js.h"
 #include "templates/report.css.h"
@@ -139,6 +140,8 @@ std::string html_document(const Report& report) {
         "confirmed, amber partly (true for some of the pairs or groups it covers, not for others), red refuted, "
         "grey not measured (too few finished runs match).</p>\n";
   }
+
+  if (std::optional<CapabilityMatrix> matrix = report_capability_matrix(report)) out += capability_matrix_html(*matrix);
 
   out += "<h2 id=\"results\">Results</h2>\n";
   Table results = results_table(report);

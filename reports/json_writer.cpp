@@ -1,6 +1,7 @@
 // results.json: the stored records in the current version's form (with the variant and reference filled in where an
 // older record lacks them), the variants with their references, the Pareto fronts and the checked
 // claims, for scripts (docs/reports.md, "Outputs").
+#include "reports/capability_matrix.h"
 #include "reports/report_parts.h"
 
 namespace causticbench::report_detail {
@@ -58,6 +59,8 @@ std::string results_json(const Report& report) {
   for (const ClaimResult& result : report.claims) claims.push_back(claim_json(report, result));
   out["claims"] = claims;
   if (has_case_table(report)) out["case_table"] = case_table_json(report);
+  if (std::optional<CapabilityMatrix> matrix = report_capability_matrix(report))
+    out["capability_matrix"] = capability_matrix_json(*matrix);
   return out.dump(2) + "\n";
 }
 

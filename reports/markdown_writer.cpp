@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "core/errors.h"
+#include "reports/capability_matrix.h"
 #include "reports/report_parts.h"
 
 namespace causticbench::report_detail {
@@ -93,6 +94,8 @@ std::string markdown_document(const Report& report) {
                              {claim_evidence(report, result, Format::markdown)}});
     markdown_table(out, claims);
   }
+
+  if (std::optional<CapabilityMatrix> matrix = report_capability_matrix(report)) out += capability_matrix_markdown(*matrix);
 
   out += "## Results\n\n";
   Table results = results_table(report);

@@ -7,6 +7,7 @@
 
 #include "core/errors.h"
 #include "core/files.h"
+#include "reports/capability_matrix.h"
 #include "reports/summary_model.h"
 
 namespace causticbench {
@@ -88,6 +89,8 @@ json summary_json(const StudySummary& summary) {
                            {"failed", report.failed_count()},
                            {"not_run", report.missing.size()},
                            {"claims", claims}});
+    if (std::optional<CapabilityMatrix> matrix = report_capability_matrix(report))
+      experiments.back()["capability_matrix"] = capability_matrix_json(*matrix);
   }
   return {{"experiments", experiments}, {"scenes", scenes}, {"methods", methods}};
 }

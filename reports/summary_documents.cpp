@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "reports/capability_matrix.h"
 #include "reports/summary_model.h"
 #include "templates/report.css.h"
 
@@ -163,6 +164,9 @@ std::string summary_markdown(const StudySummary& summary) {
   if (!any) out += "No method that precomputes more overtakes another of equal or better error.\n\n";
   out += "## Claims\n\n" + claims_total(summary) + "\n\n";
   markdown_table(out, claims_table(summary));
+  for (const Report& report : summary.experiments)
+    if (std::optional<CapabilityMatrix> matrix = report_capability_matrix(report))
+      out += capability_matrix_markdown(*matrix, "Capability matrix: " + report.name);
   return out;
 }
 
@@ -192,6 +196,9 @@ std::string summary_html(const StudySummary& summary) {
   if (!any) out += "<p>No method that precomputes more overtakes another of equal or better error.</p>\n";
   out += "<h2 id=\"claims\">Claims</h2>\n<p>" + html_escape(claims_total(summary)) + "</p>\n";
   html_table(out, claims_table(summary));
+  for (const Report& report : summary.experiments)
+    if (std::optional<CapabilityMatrix> matrix = report_capability_matrix(report))
+      out += capability_matrix_html(*matrix, "Capability matrix: " + report.name);
   out += "</body></html>\n";
   return out;
 }

@@ -144,6 +144,9 @@ StudySummary summarize_study(const std::vector<std::string>& folders) {
     for (const std::string& method : report.methods)
       if (std::find(summary.methods.begin(), summary.methods.end(), method) == summary.methods.end())
         summary.methods.push_back(method);
+    // A capability matrix's variants are cases, each made for one capability, not scenes a user picks a
+    // method for: their best per budget would only mislead. The summary shows its matrix instead.
+    if (member(report.experiment, "capability_matrix").is_object()) continue;
     for (size_t v = 0; v < report.variants.size(); ++v) {
       bool any = std::any_of(report.runs.begin(), report.runs.end(),
                              [&](const Run& run) { return run.variant_index == v && !run.stale; });

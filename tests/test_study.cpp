@@ -23,12 +23,18 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-// The studies that compare methods on a ladder of settings. Those that show a case table (the extremes,
-// case_table: true) compare cases, not ladders: tests/test_extremes.cpp runs them.
+std::string read_text(const fs::path& path);
+
+// The method ladders. Left out: the experiments that compare cases, not ladders, at one setting per
+// method, whose variants name scene files of their own (which the tiny copy's one rewritten `scene:`
+// line would not reach): those that show a case table (the extremes, case_table: true; run by
+// tests/test_extremes.cpp) and those that declare a capability matrix (study_capabilities.yaml;
+// tests/test_capability_matrix.cpp validates it and tests/test_capabilities.cpp runs its cases).
 std::vector<fs::path> study_files() {
   std::vector<fs::path> files;
   for (const auto& entry : fs::directory_iterator(std::string(CAUSTICBENCH_SCENES) + "/../experiments"))
     if (entry.path().extension() == ".yaml" && entry.path().filename().string().rfind("study_", 0) == 0 &&
+        read_text(entry.path()).find("\ncapability_matrix:") == std::string::npos &&
         !load_experiment(entry.path().string()).report.case_table)
       files.push_back(entry.path());
   std::sort(files.begin(), files.end());
