@@ -117,7 +117,7 @@ std::string claim_evidence(const Report& report, const ClaimResult& result, Form
   if (result.kind == "ratio") {
     std::string run = code_text(string_member(claim, "run"), format);
     std::string than = code_text(string_member(claim, "than"), format);
-    if (result.verdict == "not measured") {
+    if (result.verdict == Verdict::not_measured) {
       std::string base =
           result.other ? fmt::format(" (the base {} is {}: no ratio)", quantity, num(result.other->value)) : "";
       return fmt::format("{} with a {} value match{} {}{}, {} match{} {}{}: the ratio needs exactly 1 on each side{}.",

@@ -118,7 +118,10 @@ void evaluate_best(const Report& report, ClaimResult& result) {
                                                                                             : Verdict::refuted;
 }
 
-void evaluate_better(const Report& report, ClaimResult& result) {
+// The values of the runs matching `run` and `than` (better, same, ratio), with their counts, failed and
+// undefined runs recorded in the result.
+std::pair<std::vector<ClaimPoint>, std::vector<ClaimPoint>> run_and_than_points(const Report& report,
+                                                                                ClaimResult& result) {
   std::vector<ClaimPoint> mine =
       claim_points(report, string_member(result.claim, "run"), result.quantity, result.failed_first,
                    result.undefined_first);
@@ -127,6 +130,11 @@ void evaluate_better(const Report& report, ClaimResult& result) {
                    result.undefined_other);
   result.first_count = mine.size();
   result.other_count = theirs.size();
+  return {std::move(mine), std::move(theirs)};
+}
+
+void evaluate_better(const Report& report, ClaimResult& result) {
+  const auto [mine, theirs] = run_and_than_points(report, result);
   result.first = extreme(mine, result.quantity, true);
   result.other = extreme(theirs, result.quantity, false);
   // Every pair counts: all beat (the worst of `run` beats the best of `than`), none, or some.
@@ -148,14 +156,7 @@ double excess_over_tolerance(const ClaimResult& result, double a, double b) {
 void evaluate_same(const Report& report, ClaimResult& result) {
   result.absolute_tolerance = number(result.claim, "absolute_tolerance").value_or(0.0);
   result.relative_tolerance = number(result.claim, "relative_tolerance").value_or(0.0);
-  std::vector<ClaimPoint> mine =
-      claim_points(report, string_member(result.claim, "run"), result.quantity, result.failed_first,
-                   result.undefined_first);
-  std::vector<ClaimPoint> theirs =
-      claim_points(report, string_member(result.claim, "than"), result.quantity, result.failed_other,
-                   result.undefined_other);
-  result.first_count = mine.size();
-  result.other_count = theirs.size();
+  const auto [mine, theirs] = run_and_than_points(report, result);
   // The evidence names the pair that decides the most: the one farthest beyond its tolerance (when all
   // are within, the one nearest to its edge).
   std::optional<double> worst;
@@ -241,14 +242,7 @@ void evaluate_linear(const Report& report, ClaimResult& result) {
 // describes would be a choice the reader cannot see, so the claim is not measured instead.
 void evaluate_ratio(const Report& report, ClaimResult& result) {
   result.at_most = *number(result.claim, "at_most");  // checked finite by evaluate_claims
-  std::vector<ClaimPoint> mine =
-      claim_points(report, string_member(result.claim, "run"), result.quantity, result.failed_first,
-                   result.undefined_first);
-  std::vector<ClaimPoint> theirs =
-      claim_points(report, string_member(result.claim, "than"), result.quantity, result.failed_other,
-                   result.undefined_other);
-  result.first_count = mine.size();
-  result.other_count = theirs.size();
+  const auto [mine, theirs] = run_and_than_points(report, result);
   if (mine.size() != 1 || theirs.size() != 1) return;
   result.first = mine.front();
   result.other = theirs.front();

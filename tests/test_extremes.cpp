@@ -37,12 +37,6 @@ std::vector<fs::path> extremes_files() {
   return files;
 }
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 std::string tiny_copy(const std::string& text) {
   std::string tiny = text;
@@ -75,14 +69,14 @@ TEST(Extremes, EveryMethodAndCaseHasAFiniteResultOrAClearError) {
   fs::create_directory_symlink(CAUSTICBENCH_SCENES, folder.path("scenes"));
   const std::string results = folder.path("results");
   for (const fs::path& file : files) {
-    const std::string tiny = folder.write("experiments/" + file.filename().string(), tiny_copy(read_text(file)));
+    const std::string tiny = folder.write("experiments/" + file.filename().string(), tiny_copy(testing::read_whole_file(file)));
     const Experiment experiment = load_experiment(tiny);
     ASSERT_TRUE(experiment.report.case_table) << file << ": an extremes study shows the case table";
     std::string output;
     const int code = testing::run_command(std::string(CAUSTICBENCH_BINARY) + " -q run " + tiny + " --results " + results, output);
     ASSERT_EQ(code, 0) << file << "\n" << output;
 
-    const json report = json::parse(read_text(fs::path(results) / experiment.name / "results.json"));
+    const json report = json::parse(testing::read_whole_file(fs::path(results) / experiment.name / "results.json"));
     ASSERT_TRUE(report.contains("case_table")) << file;
     std::map<std::string, const RunSpec*> runs;
     std::set<std::string> methods, cases;
@@ -121,7 +115,7 @@ TEST(Extremes, EveryMethodAndCaseHasAFiniteResultOrAClearError) {
         EXPECT_FALSE(row.at("error").get<std::string>().empty()) << where << ": a stopped run says why";
       }
       // The record agrees: no non-finite pixel in any stored frame.
-      const json record = json::parse(read_text(fs::path(results) / experiment.name / "runs" / key / "record.json"));
+      const json record = json::parse(testing::read_whole_file(fs::path(results) / experiment.name / "runs" / key / "record.json"));
       if (record.at("status") == "ok") EXPECT_EQ(record.at("metrics").value("nonfinite_pixels", 0.0), 0.0) << where;
     }
     if (experiment.name == "study_extremes_knobs") {

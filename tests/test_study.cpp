@@ -23,7 +23,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string read_text(const fs::path& path);
 
 // The method ladders. Left out: the experiments that compare cases, not ladders, at one setting per
 // method, whose variants name scene files of their own (which the tiny copy's one rewritten `scene:`
@@ -34,19 +33,13 @@ std::vector<fs::path> study_files() {
   std::vector<fs::path> files;
   for (const auto& entry : fs::directory_iterator(std::string(CAUSTICBENCH_SCENES) + "/../experiments"))
     if (entry.path().extension() == ".yaml" && entry.path().filename().string().rfind("study_", 0) == 0 &&
-        read_text(entry.path()).find("\ncapability_matrix:") == std::string::npos &&
+        testing::read_whole_file(entry.path()).find("\ncapability_matrix:") == std::string::npos &&
         !load_experiment(entry.path().string()).report.case_table)
       files.push_back(entry.path());
   std::sort(files.begin(), files.end());
   return files;
 }
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // The study at 24 x 24 with a two-pass reference, one repetition and at most three frames; the scene
 // named by absolute path.
@@ -90,7 +83,7 @@ TEST(Study, CheapestSettingOfEveryMethodRunsEndToEndAndIsSummarized) {
   const std::string results = folder.path("results");
   std::vector<std::string> experiment_folders;
   for (const fs::path& file : study_files()) {
-    const std::string tiny = folder.write(file.filename().string(), tiny_copy(read_text(file)));
+    const std::string tiny = folder.write(file.filename().string(), tiny_copy(testing::read_whole_file(file)));
     Experiment experiment = load_experiment(tiny);
     std::map<std::string, const RunSpec*> cheapest;  // the first run of each method
     for (const RunSpec& run : experiment.runs) cheapest.emplace(run.method, &run);
@@ -105,7 +98,7 @@ TEST(Study, CheapestSettingOfEveryMethodRunsEndToEndAndIsSummarized) {
       EXPECT_NE(output.find("1 selected"), std::string::npos) << output;
       const fs::path record_path = fs::path(results) / experiment.name / "runs" / run->key / "record.json";
       ASSERT_TRUE(fs::is_regular_file(record_path)) << record_path;
-      const json record = json::parse(read_text(record_path));
+      const json record = json::parse(testing::read_whole_file(record_path));
       // A method may stop with a clear error on a scene it cannot model; a crash or a silent NaN may not.
       if (record.at("status") == "ok") {
         EXPECT_TRUE(record.at("metrics").contains(experiment.primary_metric)) << record_path;
@@ -119,7 +112,7 @@ TEST(Study, CheapestSettingOfEveryMethodRunsEndToEndAndIsSummarized) {
   std::string output, command = std::string(CAUSTICBENCH_BINARY) + " summarize";
   for (const std::string& experiment : experiment_folders) command += " " + experiment;
   ASSERT_EQ(testing::run_command(command + " --out " + folder.path("summary"), output), 0) << output;
-  const json summary = json::parse(read_text(folder.path("summary") + "/summary.json"));
+  const json summary = json::parse(testing::read_whole_file(folder.path("summary") + "/summary.json"));
   EXPECT_EQ(summary.at("experiments").size(), experiment_folders.size());
   for (const json& scene : summary.at("scenes")) EXPECT_FALSE(scene.at("budgets").empty()) << scene.dump();
 }

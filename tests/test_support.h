@@ -28,6 +28,9 @@ std::string replace_once(std::string text, const std::string& from, const std::s
 // The message of the InputError that `action` throws, or "no error".
 std::string input_error_message(const std::function<void()>& action);
 
+// The whole text of a file ("" when it cannot be read).
+std::string read_whole_file(const std::filesystem::path& path);
+
 // Runs a shell command, returns its exit code and fills `output` with stdout+stderr.
 int run_command(const std::string& command, std::string& output);
 
