@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "core/config.h"
 #include "core/errors.h"
@@ -125,6 +126,17 @@ nlohmann::json read_capability_matrix(const ConfigNode& node, const Experiment& 
   nlohmann::json matrix = {{"published", nullptr}, {"select", nlohmann::json::object()}, {"cases", nlohmann::json::array()}};
   if (std::optional<ConfigNode> published = node.optional_child("published")) matrix["published"] = read_published(*published);
   if (std::optional<ConfigNode> select = node.optional_child("select")) matrix["select"] = read_select(*select, experiment);
+
+  // The frame every case is judged by: by default the experiment's last, the one furthest into a moving
+  // case's animation (its earlier frames are played, so that prepare() and update() see the motion).
+  matrix["frame"] = experiment.frames.back();
+  if (node.has("frame")) {
+    const int frame = node.integer("frame", 0, 1 << 30);
+    if (std::find(experiment.frames.begin(), experiment.frames.end(), frame) == experiment.frames.end())
+      node.fail("frame", fmt::format("one of the experiment's frames ({})", fmt::join(experiment.frames, ", ")),
+                std::to_string(frame));
+    matrix["frame"] = frame;
+  }
 
   std::vector<std::string> variants;
   for (const SceneVariant& variant : experiment.variants) variants.push_back(variant.name);

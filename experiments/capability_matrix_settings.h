@@ -16,6 +16,7 @@ struct Experiment;
 // capability, method and variant it names must exist, and every case must select exactly one run of each
 // method on each of its two variants. Returns the canonical JSON stored in experiment.json:
 //   {published: {title, rows: {capability: [row, ...]}, methods: {method: [capability, ...]}} or null,
+//    frame: the frame judged (`frame`, default the experiment's last),
 //    select: {method: filter}, cases: [{capability, with, without, built_on, select: {method: filter}}],
 //    declared: {method: {capabilities: {capability: bool}, notes: {capability: text}}}}
 // Every defect is an InputError with file, line and key.

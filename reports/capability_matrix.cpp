@@ -3,6 +3,7 @@
 #include "reports/capability_matrix.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/format.h>
 
@@ -243,6 +244,22 @@ std::optional<CapabilityMatrix> report_capability_matrix(const Report& report) {
     out.error = run.error;
     out.energy_ratio = run.metric("energy_ratio");
     out.relmse = run.metric("relmse");
+    // The judged frame's values (`frame`; experiment.json written before it has none: the mean over
+    // the frames), so that a moving case is judged where it has moved and not diluted by its rest pose.
+    if (settings.contains("frame") && settings["frame"].is_number_integer()) {
+      const int judged = settings["frame"].get<int>();
+      for (const FrameRecord& frame : run.record.frames) {
+        if (frame.frame != judged) continue;
+        auto value = [&](const std::string& name) -> std::optional<double> {
+          if (frame.metrics_undefined.count(name) || !run.undefined_reason(name).empty()) return std::nullopt;
+          auto found = frame.metrics.find(name);
+          if (found == frame.metrics.end() || std::isnan(found->second)) return std::nullopt;
+          return found->second;
+        };
+        out.energy_ratio = value("energy_ratio");
+        out.relmse = value("relmse");
+      }
+    }
     runs.push_back(std::move(out));
   }
   std::map<std::string, double> noise_floors;

@@ -2,9 +2,13 @@
 // this matrix) checked against measurement. The cases are those of
 // configs/experiments/study_capabilities.yaml, its one definition: per capability a tiny scene made so
 // that the capability decides the answer (configs/scenes/capabilities/<capability>.yaml, each file's
-// header says how), the frame rendered, the reference's knobs and every method's knobs (its quick_knobs
-// with the overrides the experiment explains). The method's E_c on the case is compared with the
-// reference E_c on the same scene (same G-buffer) and judged by the rule of
+// header says how), the frames played and the frame judged (`capability_matrix` `frame`), the reference's
+// knobs and every method's knobs (its quick_knobs with the overrides the experiment explains). A moving
+// case plays the experiment's frames through the lifecycle, as the experiment does (prepare() sees them
+// all, update() and render() run per frame in order), and is judged at the judged frame, where the light
+// or the object has moved; a static case (every frame the same) renders the judged frame alone, which is
+// the same work for prepare() and costs one frame. The method's E_c on the judged frame is compared with
+// the reference E_c on the same frame (same G-buffer) and judged by the rule of
 // experiments/capability_verdict.h, which the report's capability matrix also uses:
 //   declared true   the claim must HOLD (energy ratio and relMSE within bounds);
 //   declared false  the method must REFUSE the scene (InputError before any work: check_scene or
@@ -25,6 +29,7 @@
 #include <gtest/gtest.h>
 
 #include "core/image_statistics.h"
+#include "core/scene_description.h"
 #include "experiments/capability_verdict.h"
 #include "experiments/experiment.h"
 #include "methods/registry.h"
@@ -71,7 +76,8 @@ std::vector<std::string> knobs_for(const std::string& method, const std::string&
   throw std::runtime_error("study_capabilities.yaml runs no " + method + " on " + capability);
 }
 
-int rendered_frame() { return study().frames.front(); }
+// The frame every case is judged by (experiment.json "capability_matrix" "frame").
+int judged_frame() { return study().report.capability_matrix.at("frame").get<int>(); }
 
 struct ReferenceImage {
   GBuffer gbuffer;
@@ -84,13 +90,20 @@ const Scene& scene_for(const std::string& capability) {
   return variant_named(case_of(capability).at("with").get<std::string>()).scene;
 }
 
+// The frames a method plays on the case: the experiment's, in order, when the scene moves; the judged
+// frame alone when it does not (all its frames are the same scene).
+std::vector<int> played_frames(const std::string& capability) {
+  if (scene_is_static(scene_for(capability))) return {judged_frame()};
+  return study().frames;
+}
+
 // Computed once per scene per test binary.
 const ReferenceImage& reference_for(const std::string& capability) {
   static std::map<std::string, ReferenceImage> cache;
   auto it = cache.find(capability);
   if (it != cache.end()) return it->second;
   FrameResult result =
-      causticbench::testing::render(scene_for(capability), "reference", knob_texts(study().reference_params), rendered_frame());
+      causticbench::testing::render(scene_for(capability), "reference", knob_texts(study().reference_params), judged_frame());
   ReferenceImage image;
   image.noise_floor = result.method_record["noise_floor"].get<double>();
   image.seconds = result.method_record["seconds"].get<double>();
@@ -127,7 +140,8 @@ Measurement measure(const std::string& method, const std::string& capability) {
   const ReferenceImage& reference = reference_for(capability);
   FrameResult result;
   try {
-    result = causticbench::testing::render(scene_for(capability), method, knobs, rendered_frame());
+    result = causticbench::testing::render_sequence(scene_for(capability), method, knobs, played_frames(capability),
+                                                    judged_frame());
   } catch (const InputError& error) {
     m.verdict = judge_capability(true, std::nullopt, std::nullopt);
     m.refusal = error.what();
@@ -177,7 +191,8 @@ std::vector<std::string> capability_names() {
 }  // namespace
 
 // Every capability has its case in the experiment, each case's scene file has its twin without the
-// difficulty, every registered method is in the experiment, and the frame rendered exists in every case.
+// difficulty, every registered method is in the experiment, the judged frame exists in every case, and
+// the moving cases move (their scenes are not static, so that they play the experiment's frames).
 TEST(CapabilityScenes, EveryCapabilityHasACaseAndATwin) {
   const std::vector<std::string> names = capability_names();
   for (const std::string& capability : names) {
@@ -188,7 +203,12 @@ TEST(CapabilityScenes, EveryCapabilityHasACaseAndATwin) {
               std::filesystem::path(std::string(CAUSTICBENCH_SCENES) + "/capabilities/" + capability + ".yaml")
                   .lexically_normal()
                   .string());
-    EXPECT_LT(rendered_frame(), scene_for(capability).frames) << capability;
+    EXPECT_LT(judged_frame(), scene_for(capability).frames) << capability;
+    if (capability == "moving_light" || capability == "moving_objects") {
+      EXPECT_FALSE(scene_is_static(scene_for(capability))) << capability;
+      EXPECT_GT(study().frames.size(), 1u) << capability << ": one frame played, so prepare() sees no motion";
+      EXPECT_NE(judged_frame(), study().frames.front()) << capability << ": judged at the first frame played";
+    }
   }
   for (const std::string& method : method_names()) EXPECT_NO_THROW(knobs_for(method, names.front())) << method;
 }

@@ -147,6 +147,9 @@ TEST(CapabilityMatrixExperiment, ValidatesAndStoresTheDeclarations) {
   ASSERT_TRUE(matrix.is_object());
   EXPECT_EQ(matrix["cases"].size(), Capabilities{}.entries().size());
   EXPECT_EQ(matrix["published"]["methods"].size(), 4u);
+  // Judged at frame 1 with frame 0 played first, so that the moving cases move (tests/test_capabilities.cpp).
+  EXPECT_EQ(matrix["frame"], 1);
+  EXPECT_EQ(experiment.frames, (std::vector<int>{0, 1}));
   for (const std::string& method : method_names()) {
     ASSERT_TRUE(matrix["declared"].contains(method)) << method;
     for (const auto& [name, value] : find_method(method).info().capabilities.entries())
@@ -171,6 +174,7 @@ TEST(CapabilityMatrixExperiment, RefusesDefectsWithFileLineAndKey) {
        "capability_matrix.published.rows.colour"},
       {"  select: {pinhole: interaction=reflect}", "  select: {pinhole: interaction=reflekt}", "interaction"},
       {"metrics: [relmse, energy_ratio]", "metrics: [relmse]", "energy_ratio"},
+      {"  frame: 1\n", "  frame: 2\n", "one of the experiment's frames (0, 1)"},
   };
   for (const auto& [from, to, expected] : defects) {
     const size_t at = text.find(from);

@@ -1,8 +1,11 @@
 #include "tests/test_support.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <fstream>
+#include <memory>
+#include <stdexcept>
 
 #include <sys/wait.h>
 
@@ -36,6 +39,50 @@ FrameResult render(const Scene& scene, const std::string& method, const std::vec
   for (const std::string& knob : knobs) request.params.set_assignment(knob, "test");
   CheckedRequest checked = check_request(request);
   return run_frame(request, checked);
+}
+
+FrameResult render_sequence(const Scene& scene, const std::string& method, const std::vector<std::string>& knobs,
+                            const std::vector<int>& frames, int judged) {
+  RenderRequest request;
+  request.scene = &scene;
+  request.method = method;
+  request.frame = judged;
+  for (const std::string& knob : knobs) request.params.set_assignment(knob, "test");
+  const auto position = std::find(frames.begin(), frames.end(), judged);
+  if (position == frames.end()) throw std::logic_error("render_sequence: the judged frame is not played");
+  for (int frame : frames) {
+    request.frame = frame;
+    check_request(request);  // each frame inside the animation
+  }
+  request.frame = judged;
+  CheckedRequest checked = check_request(request);
+  const MethodInfo& info = checked.method->info();
+  std::unique_ptr<CausticMethod> instance = checked.method->create();
+  const PhaseKnobs phases = split_phases(checked.params, info.params);
+  std::vector<std::unique_ptr<PosedFrame>> posed;
+  std::vector<const PosedFrame*> sequence;
+  const PosedFrame* frame_zero = nullptr;
+  for (int frame : frames) {
+    posed.push_back(std::make_unique<PosedFrame>(scene, frame));
+    sequence.push_back(posed.back().get());
+    if (frame == 0) frame_zero = posed.back().get();
+  }
+  std::unique_ptr<RestPose> rest;
+  FrameResult result;
+  result.prepare = prepare_method(*instance, prepare_context(scene, frames, frame_zero, rest), phases.build);
+  result.timings.prepare_seconds = result.prepare.prepare_seconds;
+  std::vector<SequenceOutput> outputs =
+      play_sequence(*instance, sequence, phases.frame, {phases.render}, TimingProtocol{false, 1});
+  const size_t index = static_cast<size_t>(position - frames.begin());
+  const FrameTimings& timings = outputs.front().timings.at(index);
+  result.timings.update_milliseconds = timings.update_ms.front();
+  result.timings.render_milliseconds = timings.render_ms.front();
+  result.caustic = std::move(outputs.front().images.at(index));
+  result.gbuffer = std::move(posed.at(index)->gbuffer);
+  result.memory_bytes = instance->memory_bytes();
+  result.counters = instance->counters();
+  result.method_record = instance->record();
+  return result;
 }
 
 TemporaryFolder::TemporaryFolder(const std::string& name)

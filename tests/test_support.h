@@ -22,6 +22,11 @@ Scene scene_from_yaml(const std::string& yaml, const std::string& name = "test.y
 // Runs `method` with the given "key=value" knobs on one frame.
 FrameResult render(const Scene& scene, const std::string& method, const std::vector<std::string>& knobs, int frame = 0);
 
+// Runs `method` on `frames` as an animation through the lifecycle (prepare() sees all of them, then
+// update() and render() per frame, in order) and returns the result of frame `judged`, one of them.
+FrameResult render_sequence(const Scene& scene, const std::string& method, const std::vector<std::string>& knobs,
+                            const std::vector<int>& frames, int judged);
+
 // `text` with the first occurrence of `from` replaced (a test failure when there is none).
 std::string replace_once(std::string text, const std::string& from, const std::string& to);
 
