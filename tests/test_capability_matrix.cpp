@@ -168,11 +168,11 @@ TEST(CapabilityMatrixExperiment, RefusesDefectsWithFileLineAndKey) {
   const std::vector<std::tuple<std::string, std::string, std::string>> defects = {
       {"{capability: point_light, with:", "{capability: point_lite, with:", "did you mean 'point_light'"},
       {"without: occlusion_without}", "without: occlusion_with}", "a variant of the experiment"},
-      {"  select: {pinhole: interaction=reflect}\n", "", "one run of pinhole"},
+      {"  select: {pinhole: interaction=reflect, lpi: light_subdivision=0}\n", "", "one run of"},
       {"lpi: [directional_light,", "lpi: [reflection, directional_light,", "a capability that `rows` maps"},
       {"      occlusion: [Occluded caustic light]\n", "      occlusion: [Occluded caustic light]\n      colour: [x]\n",
        "capability_matrix.published.rows.colour"},
-      {"  select: {pinhole: interaction=reflect}", "  select: {pinhole: interaction=reflekt}", "interaction"},
+      {"  select: {pinhole: interaction=reflect,", "  select: {pinhole: interaction=reflekt,", "interaction"},
       {"metrics: [relmse, energy_ratio]", "metrics: [relmse]", "energy_ratio"},
       {"  frame: 1\n", "  frame: 2\n", "one of the experiment's frames (0, 1)"},
   };
