@@ -28,27 +28,11 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::vector<fs::path> extremes_files() {
-  std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(std::string(CAUSTICBENCH_SCENES) + "/../experiments"))
-    if (entry.path().extension() == ".yaml" && entry.path().filename().string().rfind("study_extremes", 0) == 0)
-      files.push_back(entry.path());
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
-
 std::string tiny_copy(const std::string& text) {
-  std::string tiny = text;
-  const std::pair<const char*, const char*> lines[] = {
-      {"\noverrides: [^\n]*", "\noverrides: {resolution: [16, 16]}"},
-      {"\nreference: [^\n]*", "\nreference: {photons_per_pass: 100000, max_passes: 2, target_noise_floor: 0}"},
-      {"\nrepetitions: [^\n]*", "\nrepetitions: 1"}};
-  for (const auto& [pattern, replacement] : lines) {
-    std::regex expression(pattern);
-    EXPECT_TRUE(std::regex_search(tiny, expression)) << "the extremes file has no one-line " << pattern;
-    tiny = std::regex_replace(tiny, expression, replacement);
-  }
+  std::string tiny = testing::replace_lines(
+      text, {{"\noverrides: [^\n]*", "\noverrides: {resolution: [16, 16]}"},
+             {"\nreference: [^\n]*", "\nreference: {photons_per_pass: 100000, max_passes: 2, target_noise_floor: 0}"},
+             {"\nrepetitions: [^\n]*", "\nrepetitions: 1"}});
   tiny = std::regex_replace(tiny, std::regex("rays_per_side: 256"), "rays_per_side: 64");
   return std::regex_replace(tiny, std::regex("photons_per_sample: 200000"), "photons_per_sample: 20000");
 }
@@ -60,7 +44,7 @@ const std::set<std::string> kMustStop = {"lpi one cell",          "lpi multires 
                                          "csl distance threshold 1e-6", "csl angle threshold 0", "csl fit tolerance 0"};
 
 TEST(Extremes, EveryMethodAndCaseHasAFiniteResultOrAClearError) {
-  const std::vector<fs::path> files = extremes_files();
+  const std::vector<fs::path> files = testing::shipped_experiments("study_extremes");
   ASSERT_GE(files.size(), 3u) << "study_extremes, study_extremes_directions and study_extremes_knobs";
   testing::TemporaryFolder folder("extremes_end_to_end");
   // The copies sit in experiments/ beside a link to the shipped scenes/, so that the variants' relative

@@ -31,12 +31,10 @@ using nlohmann::json;
 // tests/test_capability_matrix.cpp validates it and tests/test_capabilities.cpp runs its cases).
 std::vector<fs::path> study_files() {
   std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(std::string(CAUSTICBENCH_SCENES) + "/../experiments"))
-    if (entry.path().extension() == ".yaml" && entry.path().filename().string().rfind("study_", 0) == 0 &&
-        testing::read_whole_file(entry.path()).find("\ncapability_matrix:") == std::string::npos &&
-        !load_experiment(entry.path().string()).report.case_table)
-      files.push_back(entry.path());
-  std::sort(files.begin(), files.end());
+  for (const fs::path& file : testing::shipped_experiments("study_")) {
+    const Experiment experiment = load_experiment(file.string());
+    if (!experiment.report.case_table && experiment.report.capability_matrix.is_null()) files.push_back(file);
+  }
   return files;
 }
 
@@ -46,15 +44,10 @@ std::vector<fs::path> study_files() {
 std::string tiny_copy(const std::string& text) {
   std::string tiny = std::regex_replace(text, std::regex("\nscene: \\.\\./scenes/"),
                                         "\nscene: " + std::string(CAUSTICBENCH_SCENES) + "/");
-  const std::pair<const char*, const char*> lines[] = {
-      {"\noverrides: [^\n]*", "\noverrides: {resolution: [24, 24]}"},
-      {"\nreference: [^\n]*", "\nreference: {photons_per_pass: 100000, max_passes: 2, target_noise_floor: 0}"},
-      {"\nrepetitions: [^\n]*", "\nrepetitions: 1"}};
-  for (const auto& [pattern, replacement] : lines) {
-    std::regex expression(pattern);
-    EXPECT_TRUE(std::regex_search(tiny, expression)) << "the study file has no one-line " << pattern;
-    tiny = std::regex_replace(tiny, expression, replacement);
-  }
+  tiny = testing::replace_lines(
+      tiny, {{"\noverrides: [^\n]*", "\noverrides: {resolution: [24, 24]}"},
+             {"\nreference: [^\n]*", "\nreference: {photons_per_pass: 100000, max_passes: 2, target_noise_floor: 0}"},
+             {"\nrepetitions: [^\n]*", "\nrepetitions: 1"}});
   // An animated study: its first three frames, enough for temporal flicker.
   return std::regex_replace(tiny, std::regex("\nframes: [^\n]*"), "\nframes: {first: 0, count: 3}");
 }

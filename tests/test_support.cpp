@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <regex>
 #include <stdexcept>
 
 #include <sys/wait.h>
@@ -108,6 +109,24 @@ std::string replace_once(std::string text, const std::string& from, const std::s
   EXPECT_NE(at, std::string::npos) << "'" << from << "' not found";
   if (at == std::string::npos) return text;
   return text.replace(at, from.size(), to);
+}
+
+std::string replace_lines(std::string text, const std::vector<std::pair<std::string, std::string>>& lines) {
+  for (const auto& [pattern, replacement] : lines) {
+    const std::regex expression(pattern);
+    EXPECT_TRUE(std::regex_search(text, expression)) << "no line matches " << pattern;
+    text = std::regex_replace(text, expression, replacement);
+  }
+  return text;
+}
+
+std::vector<std::filesystem::path> shipped_experiments(const std::string& prefix) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(CAUSTICBENCH_SCENES) + "/../experiments"))
+    if (entry.path().extension() == ".yaml" && entry.path().filename().string().rfind(prefix, 0) == 0)
+      files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  return files;
 }
 
 std::string input_error_message(const std::function<void()>& action) {

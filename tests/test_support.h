@@ -33,6 +33,13 @@ std::string replace_once(std::string text, const std::string& from, const std::s
 // The message of the InputError that `action` throws, or "no error".
 std::string input_error_message(const std::function<void()>& action);
 
+// `text` with each line matching a pattern (a regular expression over one line, starting at its "\n")
+// replaced; a test failure when a pattern matches nothing. How the study tests make tiny copies.
+std::string replace_lines(std::string text, const std::vector<std::pair<std::string, std::string>>& lines);
+
+// The shipped experiment files (configs/experiments/*.yaml) whose names start with `prefix`, sorted.
+std::vector<std::filesystem::path> shipped_experiments(const std::string& prefix);
+
 // The whole text of a file ("" when it cannot be read).
 std::string read_whole_file(const std::filesystem::path& path);
 
