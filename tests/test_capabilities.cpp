@@ -13,6 +13,9 @@
 //   declared true   the claim must HOLD (energy ratio and relMSE within bounds);
 //   declared false  the method must REFUSE the scene (InputError before any work: check_scene or
 //                   prepare, through the lifecycle) or be MEASURABLY WRONG there.
+// A case built on a capability a method declares false (the mirror sphere's, for csl, which declares
+// reflection false) judges that method on the case's glass twin instead, from
+// configs/experiments/study_capabilities_glass.yaml (configs/scenes/capabilities/glass/).
 // The twins without the difficulty (<capability>_without.yaml) are measured by the experiment, not here:
 // they would double this test's time and decide nothing about the declarations.
 // The suite is instantiated over method_names(), and every registered method must be in the experiment,
@@ -22,6 +25,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,23 +43,60 @@ using namespace causticbench;
 
 namespace {
 
-const Experiment& study() {
+// The two case books: the mirror sphere's (every capability) and the glass sphere's (the cases a method
+// without reflection cannot show on the mirror; configs/experiments/study_capabilities_glass.yaml).
+const Experiment& mirror_study() {
   static const Experiment experiment =
       load_experiment(std::string(CAUSTICBENCH_SCENES) + "/../experiments/study_capabilities.yaml");
   return experiment;
 }
 
-// The experiment's case of `capability` (experiment.json "capability_matrix" "cases").
-const nlohmann::json& case_of(const std::string& capability) {
-  for (const nlohmann::json& entry : study().report.capability_matrix.at("cases"))
-    if (entry.at("capability") == capability) return entry;
+const Experiment& glass_study() {
+  static const Experiment experiment =
+      load_experiment(std::string(CAUSTICBENCH_SCENES) + "/../experiments/study_capabilities_glass.yaml");
+  return experiment;
+}
+
+// One case of one experiment (experiment.json "capability_matrix" "cases").
+struct Case {
+  const Experiment* study = nullptr;
+  const nlohmann::json* entry = nullptr;
+  std::string capability() const { return entry->at("capability"); }
+  std::string built_on() const { return entry->at("built_on"); }
+  std::string with() const { return entry->at("with"); }
+};
+
+std::optional<Case> find_case(const Experiment& study, const std::string& capability) {
+  for (const nlohmann::json& entry : study.report.capability_matrix.at("cases"))
+    if (entry.at("capability") == capability) return Case{&study, &entry};
+  return std::nullopt;
+}
+
+Case case_of(const std::string& capability) {
+  if (std::optional<Case> found = find_case(mirror_study(), capability)) return *found;
   throw std::runtime_error("study_capabilities.yaml has no case for capability '" + capability + "'");
 }
 
-const SceneVariant& variant_named(const std::string& name) {
-  for (const SceneVariant& variant : study().variants)
+bool declares(const std::string& method, const std::string& capability) {
+  for (const auto& [name, value] : find_method(method).info().capabilities.entries())
+    if (name == capability) return value;
+  return false;
+}
+
+// The case `method` is judged on for `capability`: the mirror sphere's, unless it is built on a
+// capability the method declares false and the glass sphere's case is built on one it declares true.
+Case judged_case(const std::string& method, const std::string& capability) {
+  Case mirror = case_of(capability);
+  if (mirror.built_on().empty() || declares(method, mirror.built_on())) return mirror;
+  std::optional<Case> glass = find_case(glass_study(), capability);
+  if (glass && (glass->built_on().empty() || declares(method, glass->built_on()))) return *glass;
+  return mirror;
+}
+
+const SceneVariant& variant_named(const Experiment& study, const std::string& name) {
+  for (const SceneVariant& variant : study.variants)
     if (variant.name == name) return variant;
-  throw std::runtime_error("study_capabilities.yaml has no variant '" + name + "'");
+  throw std::runtime_error(study.name + " has no variant '" + name + "'");
 }
 
 std::vector<std::string> knob_texts(const ParamSet& params) {
@@ -65,19 +106,18 @@ std::vector<std::string> knob_texts(const ParamSet& params) {
 }
 
 // The knobs of `method` on the case: those of the experiment's run that the case selects.
-std::vector<std::string> knobs_for(const std::string& method, const std::string& capability) {
-  const nlohmann::json& entry = case_of(capability);
-  const nlohmann::json& matrix = study().report.capability_matrix;
-  std::string filter = entry.at("select").value(method, matrix.at("select").value(method, std::string()));
-  for (const RunSpec& run : study().runs) {
-    if (run.method != method || study().variants[run.variant].name != entry.at("with")) continue;
-    if (filter.empty() || run_matches_filter(study(), run, filter)) return knob_texts(run.params);
+std::vector<std::string> knobs_for(const std::string& method, const Case& c) {
+  const nlohmann::json& matrix = c.study->report.capability_matrix;
+  std::string filter = c.entry->at("select").value(method, matrix.at("select").value(method, std::string()));
+  for (const RunSpec& run : c.study->runs) {
+    if (run.method != method || c.study->variants[run.variant].name != c.with()) continue;
+    if (filter.empty() || run_matches_filter(*c.study, run, filter)) return knob_texts(run.params);
   }
-  throw std::runtime_error("study_capabilities.yaml runs no " + method + " on " + capability);
+  throw std::runtime_error(c.study->name + " runs no " + method + " on " + c.capability());
 }
 
 // The frame every case is judged by (experiment.json "capability_matrix" "frame").
-int judged_frame() { return study().report.capability_matrix.at("frame").get<int>(); }
+int judged_frame(const Case& c) { return c.study->report.capability_matrix.at("frame").get<int>(); }
 
 struct ReferenceImage {
   GBuffer gbuffer;
@@ -86,30 +126,29 @@ struct ReferenceImage {
   double seconds = 0.0;
 };
 
-const Scene& scene_for(const std::string& capability) {
-  return variant_named(case_of(capability).at("with").get<std::string>()).scene;
-}
+const Scene& scene_for(const Case& c) { return variant_named(*c.study, c.with()).scene; }
 
 // The frames a method plays on the case: the experiment's, in order, when the scene moves; the judged
 // frame alone when it does not (all its frames are the same scene).
-std::vector<int> played_frames(const std::string& capability) {
-  if (scene_is_static(scene_for(capability))) return {judged_frame()};
-  return study().frames;
+std::vector<int> played_frames(const Case& c) {
+  if (scene_is_static(scene_for(c))) return {judged_frame(c)};
+  return c.study->frames;
 }
 
-// Computed once per scene per test binary.
-const ReferenceImage& reference_for(const std::string& capability) {
+// Computed once per case per test binary.
+const ReferenceImage& reference_for(const Case& c) {
   static std::map<std::string, ReferenceImage> cache;
-  auto it = cache.find(capability);
+  const std::string key = c.study->name + "/" + c.capability();
+  auto it = cache.find(key);
   if (it != cache.end()) return it->second;
-  FrameResult result =
-      causticbench::testing::render(scene_for(capability), "reference", knob_texts(study().reference_params), judged_frame());
+  FrameResult result = causticbench::testing::render(scene_for(c), "reference", knob_texts(c.study->reference_params),
+                                                     judged_frame(c));
   ReferenceImage image;
   image.noise_floor = result.method_record["noise_floor"].get<double>();
   image.seconds = result.method_record["seconds"].get<double>();
   image.gbuffer = std::move(result.gbuffer);
   image.caustic = std::move(result.caustic);
-  return cache.emplace(capability, std::move(image)).first->second;
+  return cache.emplace(key, std::move(image)).first->second;
 }
 
 struct Measurement {
@@ -119,6 +158,7 @@ struct Measurement {
   double energy_ratio = NAN, relmse = NAN;
   std::string refusal;
   std::string knobs;
+  std::string case_file;
   bool agrees = false;
 };
 
@@ -127,21 +167,18 @@ std::vector<Measurement>& measurements() {
   return all;
 }
 
-Measurement measure(const std::string& method, const std::string& capability) {
-  const MethodInfo& info = find_method(method).info();
+Measurement measure(const std::string& method, const Case& c) {
   Measurement m;
   m.method = method;
-  m.capability = capability;
-  for (const auto& [name, value] : info.capabilities.entries()) {
-    if (name == capability) m.declared = value;
-  }
-  std::vector<std::string> knobs = knobs_for(method, capability);
+  m.capability = c.capability();
+  m.case_file = variant_named(*c.study, c.with()).scene_path;
+  m.declared = declares(method, m.capability);
+  std::vector<std::string> knobs = knobs_for(method, c);
   for (const std::string& knob : knobs) m.knobs += (m.knobs.empty() ? "" : " ") + knob;
-  const ReferenceImage& reference = reference_for(capability);
+  const ReferenceImage& reference = reference_for(c);
   FrameResult result;
   try {
-    result = causticbench::testing::render_sequence(scene_for(capability), method, knobs, played_frames(capability),
-                                                    judged_frame());
+    result = causticbench::testing::render_sequence(scene_for(c), method, knobs, played_frames(c), judged_frame(c));
   } catch (const InputError& error) {
     m.verdict = judge_capability(true, std::nullopt, std::nullopt);
     m.refusal = error.what();
@@ -159,9 +196,8 @@ std::string describe(const Measurement& m) {
                                  m.method, m.capability, m.declared ? "true" : "false", m.energy_ratio, m.relmse,
                                  capability_verdict_name(m.verdict));
   if (!m.refusal.empty()) text += " (" + m.refusal + ")";
-  text += fmt::format(" [scene: configs/scenes/capabilities/{}.yaml, whose header says what a method without the "
-                      "capability gets wrong; knobs: {}; {}]",
-                      case_of(m.capability).at("with").get<std::string>(), m.knobs, capability_rule_text());
+  text += fmt::format(" [scene: {}, whose header says what a method without the capability gets wrong; knobs: {}; {}]",
+                      m.case_file, m.knobs, capability_rule_text());
   return text;
 }
 
@@ -192,48 +228,59 @@ std::vector<std::string> capability_names() {
 
 // Every capability has its case in the experiment, each case's scene file has its twin without the
 // difficulty, every registered method is in the experiment, the judged frame exists in every case, and
-// the moving cases move (their scenes are not static, so that they play the experiment's frames).
+// the moving cases move (their scenes are not static, so that they play the experiment's frames). The
+// glass sphere's cases likewise, each of them the glass twin of a mirror case built on reflection.
 TEST(CapabilityScenes, EveryCapabilityHasACaseAndATwin) {
   const std::vector<std::string> names = capability_names();
+  const std::string folder = std::string(CAUSTICBENCH_SCENES) + "/capabilities/";
   for (const std::string& capability : names) {
     ASSERT_NO_THROW(case_of(capability)) << "no case for capability '" << capability << "'";
-    for (const std::string& file : {capability + ".yaml", capability + "_without.yaml"})
-      EXPECT_TRUE(std::filesystem::is_regular_file(std::string(CAUSTICBENCH_SCENES) + "/capabilities/" + file)) << file;
-    EXPECT_EQ(variant_named(case_of(capability).at("with")).scene_path,
-              std::filesystem::path(std::string(CAUSTICBENCH_SCENES) + "/capabilities/" + capability + ".yaml")
-                  .lexically_normal()
-                  .string());
-    EXPECT_LT(judged_frame(), scene_for(capability).frames) << capability;
-    if (capability == "moving_light" || capability == "moving_objects") {
-      EXPECT_FALSE(scene_is_static(scene_for(capability))) << capability;
-      EXPECT_GT(study().frames.size(), 1u) << capability << ": one frame played, so prepare() sees no motion";
-      EXPECT_NE(judged_frame(), study().frames.front()) << capability << ": judged at the first frame played";
+    std::vector<Case> cases = {case_of(capability)};
+    if (std::optional<Case> glass = find_case(glass_study(), capability)) {
+      EXPECT_EQ(case_of(capability).built_on(), "reflection") << capability << ": a glass twin of a case not built on reflection";
+      EXPECT_EQ(glass->built_on(), "refraction") << capability;
+      cases.push_back(*glass);
+    }
+    for (const Case& c : cases) {
+      const std::string subfolder = c.study == &glass_study() ? folder + "glass/" : folder;
+      for (const std::string& file : {capability + ".yaml", capability + "_without.yaml"})
+        EXPECT_TRUE(std::filesystem::is_regular_file(subfolder + file)) << subfolder + file;
+      EXPECT_EQ(variant_named(*c.study, c.with()).scene_path,
+                std::filesystem::path(subfolder + capability + ".yaml").lexically_normal().string());
+      EXPECT_LT(judged_frame(c), scene_for(c).frames) << capability;
+      if (capability == "moving_light" || capability == "moving_objects") {
+        EXPECT_FALSE(scene_is_static(scene_for(c))) << capability;
+        EXPECT_GT(c.study->frames.size(), 1u) << capability << ": one frame played, so prepare() sees no motion";
+        EXPECT_NE(judged_frame(c), c.study->frames.front()) << capability << ": judged at the first frame played";
+      }
     }
   }
-  for (const std::string& method : method_names()) EXPECT_NO_THROW(knobs_for(method, names.front())) << method;
+  // Every registered method runs on every case of both experiments.
+  for (const std::string& method : method_names()) {
+    EXPECT_NO_THROW(knobs_for(method, case_of(names.front()))) << method;
+    for (const nlohmann::json& entry : glass_study().report.capability_matrix.at("cases"))
+      EXPECT_NO_THROW(knobs_for(method, Case{&glass_study(), &entry})) << method << " on the glass sphere";
+  }
 }
 
 class CapabilityConformance : public ::testing::TestWithParam<std::tuple<std::string, std::string>> {};
 
 TEST_P(CapabilityConformance, DeclarationMatchesMeasurement) {
   const auto& [method, capability] = GetParam();
+  const Case c = judged_case(method, capability);
   // The reference's own noise (relMSE of its result, estimated from its two independent halves) must
   // sit an order of magnitude below the bound it is used to judge, and it must see a caustic at all.
-  const ReferenceImage& reference = reference_for(capability);
+  const ReferenceImage& reference = reference_for(c);
   ASSERT_GT(masked_sum(reference.caustic, reference.gbuffer.receiver), 0.0) << capability << ": the reference sees no caustic";
   ASSERT_LT(reference.noise_floor, kCapabilityReferenceNoiseLimit) << capability << ": reference noise floor";
-  Measurement m = measure(method, capability);
-  const std::string built_on = case_of(capability).at("built_on");
-  if (!built_on.empty()) {
-    bool has = false;
-    for (const auto& [name, value] : find_method(method).info().capabilities.entries()) has = has || (name == built_on && value);
-    if (!has) {
-      m.agrees = true;
-      measurements().push_back(m);
-      std::printf("%s (not judged: the scene is built on %s, which %s declares false)\n", describe(m).c_str(),
-                  built_on.c_str(), method.c_str());
-      return;
-    }
+  Measurement m = measure(method, c);
+  if (!c.built_on().empty() && !declares(method, c.built_on())) {
+    m.agrees = true;
+    measurements().push_back(m);
+    std::printf("%s (not judged: the scene is built on %s, which %s declares false, and no case built on what it "
+                "declares shows this capability)\n",
+                describe(m).c_str(), c.built_on().c_str(), method.c_str());
+    return;
   }
   m.agrees = capability_verdict_agrees(m.declared, m.verdict);
   EXPECT_TRUE(m.agrees) << (m.declared ? "declared capability does not hold: "
