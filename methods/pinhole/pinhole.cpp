@@ -118,6 +118,7 @@ void PinholeMethod::prepare(const PrepareContext& context, const ParamSet& build
   }
   // A new scene or new build knobs: nothing of the last frame's light map carries over.
   cube_map_lights_.reset();
+  packed_map_ = PackedTexels();
   filtered_map_.reset();
   cube_filter_.reset();
   frame_data_ = PinholeFrameData{};
@@ -157,6 +158,11 @@ void PinholeMethod::update(const FrameContext& context, const ParamSet& knobs) {
   if (lights_changed) {
     cube_map_ = LightCubeMap(lights, resolution);
     cube_map_lights_ = std::make_unique<DistantLights>(lights);
+    const std::vector<uint8_t>& occupied = cube_map_.occupancy();
+    const bool lit_everywhere = std::find(occupied.begin(), occupied.end(), 0) == occupied.end();
+    packed_map_ = lit_everywhere && build_.text("filtering") == "none" && build_.text("interaction") == "reflect"
+                      ? PackedTexels(cube_map_.texels())
+                      : PackedTexels();
   }
   // The flat arrays the Vulkan backend and --dump-frame use; the cube map is copied when it changes.
   if (lights_changed) {
@@ -296,25 +302,47 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
     std::vector<float> throughput_values;
     for (const ThroughputTable& table : tables)
       for (const Color& value : table.values()) throughput_values.insert(throughput_values.end(), {value.r, value.g, value.b});
-    const std::vector<int32_t> table_index(table_of.begin(), table_of.end());
+    std::vector<int32_t> table_index(table_of.begin(), table_of.end());
+    table_index.resize(padded, 0);  // the vector fetch reads whole groups of 8
     const bool vector_fetch = vector_fetch_enabled();
-    constexpr size_t kBlock = 256;
-    parallel_blocks(gbuffer.pixel_count(), 64, [&](size_t begin, size_t end, size_t) {
+    // A block of samples is taken through every pixel of a chunk before the next block: a sample's
+    // texels move by about one texel from one pixel to the next, so the block's texels stay cached. Each
+    // pixel's sum still adds the blocks in order, so the output is the same bit for bit as pixel by
+    // pixel.
+    constexpr size_t kBlock = 256, kPixels = 64;
+    parallel_blocks(gbuffer.pixel_count(), kPixels, [&](size_t begin, size_t end, size_t) {
       alignas(32) float texel_s[kBlock], texel_t[kBlock], weight[kBlock], cos_sample[kBlock];
       alignas(32) int face[kBlock], block[kBlock];
       const std::vector<uint8_t>& occupied = cube_map_.occupancy();
       uint16_t indices[kBlock];
       const float resolution = static_cast<float>(cube_map_.resolution());
+      const uint32_t* packed = packed_map_.texels().empty() ? nullptr : packed_map_.texels().data();
+      size_t pixels[kPixels];
+      Color sums[kPixels];
+      size_t receivers = 0;
       for (size_t pixel = begin; pixel < end; ++pixel) {
-        if (!gbuffer.receiver[pixel]) continue;
-        Color sum(0.0f);
-        for (size_t first = 0; first < count; first += kBlock) {
-          size_t n = std::min(kBlock, count - first);
+        if (gbuffer.receiver[pixel]) pixels[receivers++] = pixel;
+      }
+      std::fill(sums, sums + receivers, Color(0.0f));
+      for (size_t first = 0; first < count; first += kBlock) {
+        size_t n = std::min(kBlock, count - first);
+        for (size_t r = 0; r < receivers; ++r) {
+          const size_t pixel = pixels[r];
+          Color& sum = sums[r];
           reflection_block(ReflectionBlock{(n + 7) / 8 * 8, &px[first], &py[first], &pz[first], &nx[first], &ny[first],
                                            &nz[first], &two_sided[first], gbuffer.position[pixel], gbuffer.normal[pixel],
                                            epsilon, sample_area, resolution,
                                            static_cast<float>(cube_map_.occupancy_blocks()), attenuation, face, block,
                                            texel_s, texel_t, weight, cos_sample});
+          // Under an environment map (packed) every block is lit: the vector fetch compacts the facing
+          // samples itself, by a permutation eight at a time.
+          if (packed && vector_fetch) {
+            fetch_sum_avx2(FetchBlock{face, texel_s, texel_t, weight, cos_sample, nullptr, (n + 7) / 8 * 8,
+                                      cube_map_.texels().data(), packed, packed_map_.unit_bits(), cube_map_.resolution(),
+                                      throughput_values.data(), table_index.data() + first, tables.size() == 1},
+                           sum);
+            continue;
+          }
           // Compact the facing samples that look into a lit part of the map without a branch (about
           // half face away, at random, which a branch would mispredict), then look them up.
           size_t facing = 0;
@@ -325,8 +353,8 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
           size_t k = 0;
           if (vector_fetch)
             k = fetch_sum_avx2(FetchBlock{face, texel_s, texel_t, weight, cos_sample, indices, facing,
-                                          cube_map_.texels().data(), cube_map_.resolution(), throughput_values.data(),
-                                          table_index.data() + first},
+                                          cube_map_.texels().data(), nullptr, 0, cube_map_.resolution(),
+                                          throughput_values.data(), table_index.data() + first, false},
                                sum);
           for (; k < facing; ++k) {
             size_t j = indices[k];
@@ -335,8 +363,8 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
             sum += radiance * tables[table_of[first + j]](cos_sample[j]) * weight[j];
           }
         }
-        result.set_rgb(pixel, sum);
       }
+      for (size_t r = 0; r < receivers; ++r) result.set_rgb(pixels[r], sums[r]);
     });
     return result;
   }
@@ -441,6 +469,7 @@ float PinholeMethod::epsilon_of(const ParamSet& params) const {
 
 size_t PinholeMethod::memory_bytes() const {
   return samples_.samples.size() * (sizeof(ReflectorSample) + sizeof(const Material*)) + cube_map_.memory_bytes() +
+         packed_map_.texels().size() * sizeof(uint32_t) +
          (filtered_map_ ? filtered_map_->memory_bytes() : 0) + (cube_filter_ ? cube_filter_->memory_bytes() : 0);
 }
 
@@ -496,7 +525,8 @@ nlohmann::json PinholeMethod::record() const {
           {"reflector_area", samples_.total_area},
           {"sample_spacing", samples_.spacing},
           {"cell_or_diameter", samples_.cell_or_diameter},
-          {"throughput_table_max_error", table_error_}};
+          {"throughput_table_max_error", table_error_},
+          {"packed_texels_max_error", packed_map_.max_relative_error()}};
 }
 
 }  // namespace causticbench

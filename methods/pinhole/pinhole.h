@@ -8,6 +8,7 @@
 #include "methods/method.h"
 #include "methods/pinhole/frame_data.h"
 #include "methods/pinhole/light_map.h"
+#include "methods/pinhole/packed_texels.h"
 #include "methods/pinhole/reflector_sampling.h"
 
 namespace causticbench {
@@ -41,6 +42,9 @@ class PinholeMethod : public CausticMethod {
   // (ThroughputTable::max_error), for the run record.
   float table_error_ = 0.0f;
   LightCubeMap cube_map_;
+  // The shared-exponent copy the unfiltered vector fetch reads when every block of the map is lit (an
+  // environment map); empty under compact lights, whose few fetches read the float map exactly.
+  PackedTexels packed_map_;
   std::unique_ptr<DistantLights> cube_map_lights_;  // the lights cube_map_ was built from
   std::string filter_implementation_;  // "" when not filtering
   std::unique_ptr<FilteredLightMap> filtered_map_;        // filter_implementation: oiio
