@@ -25,7 +25,8 @@ const MethodInfo& LpiMethod::static_info() {
     m.summary = "Precomputes each specular object's caustic irradiance in a volume around it (a grid, concentric "
                 "geodesic shells or an adaptive octree; or per cell spherical harmonics over light directions) for a "
                 "set of light directions, by photon tracks through the object alone; per frame "
-                "it turns the light into the object's frame and looks the caustic up, blending neighbouring light samples.";
+                "it turns the light into the object's frame and looks the caustic up, blending neighbouring light samples "
+                "(an environment map: every light sample, weighted by the map's light around it).";
     const std::vector<std::string> grid_or_sh = {"grid", "sh"}, shells = {"shells"}, multires = {"multires"}, sh = {"sh"};
     // sh fits over the whole sphere of light directions and reads no light sample by itself.
     const std::vector<std::string> sampled = {"grid", "shells", "multires"};
@@ -76,7 +77,8 @@ const MethodInfo& LpiMethod::static_info() {
         ParamSpec::integer("seed", 1, 0, 4e9, "seed of the photon paths", ParamPhase::build),
         ParamSpec::choice("light_samples", "auto", {"auto", "all"},
                           "auto: when no light's direction in an object's frame changes over the rendered frames, just "
-                          "those directions; otherwise (and with all) the geodesic set",
+                          "those directions; with an environment light, the geodesic samples its map lights; otherwise "
+                          "(and with all) the geodesic set",
                           ParamPhase::build)
             .only_when("storage", sampled),
         ParamSpec::integer("light_subdivision", 2, 0, 6,
