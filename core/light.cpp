@@ -62,6 +62,19 @@ Color EnvironmentMap::radiance(const Vec3& w) const {
   return texel(x, y);
 }
 
+Vec3 EnvironmentMap::texel_direction(int x, int y, double s, double t) const {
+  const double phi = 2.0 * kPiDouble * (x + s) / width_ + rotation_radians_;
+  const double cos0 = std::cos(kPiDouble * y / height_), cos1 = std::cos(kPiDouble * (y + 1) / height_);
+  const double cos_theta = cos0 + (cos1 - cos0) * t;
+  const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
+  return Vec3(static_cast<float>(sin_theta * std::cos(phi)), static_cast<float>(cos_theta),
+              static_cast<float>(sin_theta * std::sin(phi)));
+}
+
+double EnvironmentMap::texel_solid_angle(int y) const {
+  return (2.0 * kPiDouble / width_) * (std::cos(kPiDouble * y / height_) - std::cos(kPiDouble * (y + 1) / height_));
+}
+
 Vec3 EnvironmentMap::sample(float u1, float u2, float u3, Color& radiance_over_pdf, float& pdf) const {
   double probability;
   size_t index = distribution_.sample(u1, probability);

@@ -29,9 +29,16 @@ class EnvironmentMap {
   const std::vector<float>& pixels() const { return pixels_; }  // RGB, scaled
   // Irradiance on a surface facing straight up with nothing in the way (a check on the map).
   Color upward_irradiance() const;
+  // The radiance of texel (x, y), over which the map is constant.
+  Color texel(int x, int y) const;
+  // The direction towards the light at fractions (s, t) in [0, 1] across texel (x, y): uniform in
+  // azimuth and in cos(theta) within the texel, as sample() draws, so equal steps of s and t cut the
+  // texel into equal solid angles.
+  Vec3 texel_direction(int x, int y, double s, double t) const;
+  // The solid angle of a texel of row y (the same for every texel of the row).
+  double texel_solid_angle(int y) const;
 
  private:
-  Color texel(int x, int y) const;
   void texel_of(const Vec3& direction_to_light, int& x, int& y) const;
   std::vector<float> pixels_;
   int width_ = 0, height_ = 0;

@@ -15,6 +15,20 @@ LightSampleSet geodesic_samples(int level, SampleAt at) {
   return set;
 }
 
+LightSampleSet geodesic_part(LightSampleSet geodesic, const std::vector<bool>& keep) {
+  LightSampleSet part;
+  part.kind = "environment";
+  part.mesh = std::move(geodesic.mesh);
+  part.sample_of_point.assign(part.mesh->points().size(), -1);
+  for (uint32_t point = 0; point < part.mesh->points().size(); ++point) {
+    if (!keep[point]) continue;
+    part.sample_of_point[point] = static_cast<int32_t>(part.directions.size());
+    part.mesh_points.push_back(point);
+    part.directions.push_back(part.mesh->points()[point]);
+  }
+  return part;
+}
+
 LightSampleSet meridian_samples(int level, const Vec3& axis) {
   LightSampleSet set;
   set.kind = "meridian";
@@ -111,15 +125,20 @@ LightReads light_reads(const LightSampleSet& set, const Vec3& direction, Blend b
     return reads;
   }
   // The geodesic set.
+  // The geodesic set, or the part of it an environment light needs (whose plan holds every sample
+  // a fixed directional light reads: a left-out point reads nothing).
   if (blend == Blend::nearest) {
-    add_read(reads, set.mesh->nearest_point(direction), 1.0f, glm::mat3(1.0f), false);
+    const int32_t sample = set.sample_of(set.mesh->nearest_point(direction));
+    if (sample >= 0) add_read(reads, static_cast<uint32_t>(sample), 1.0f, glm::mat3(1.0f), false);
     return reads;
   }
   const SphericalMesh::Location location = set.mesh->locate(direction);
   // Weights sum to one, so one of them is positive; rounding cannot leave all three at zero.
   const auto& corners = set.mesh->triangles()[location.triangle];
   for (int corner = 0; corner < 3; ++corner) {
-    const uint32_t sample = corners[corner];
+    const int32_t held = set.sample_of(corners[corner]);
+    if (held < 0) continue;
+    const uint32_t sample = static_cast<uint32_t>(held);
     if (blend == Blend::aligned) {
       const glm::mat3 rotation = rotation_between(direction, set.directions[sample]);
       add_read(reads, sample, location.weights[corner], rotation, true);

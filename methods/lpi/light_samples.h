@@ -22,16 +22,28 @@ enum class Symmetry { none, axial, spherical };
 enum class Blend { nearest, barycentric, aligned };
 
 struct LightSampleSet {
-  std::string kind;    // static, geodesic, meridian, spherical
+  std::string kind;    // static, geodesic, environment (part of the geodesic set), meridian, spherical
   std::string reason;  // why this set, for the run record
   std::vector<Vec3> directions;
-  std::optional<SphericalMesh> mesh;  // geodesic: the triangulation the blend locates in
+  std::optional<SphericalMesh> mesh;  // geodesic, environment: the triangulation the blend locates in
   Vec3 axis{0.0f, 1.0f, 0.0f};        // meridian: the symmetry axis
   Vec3 meridian{1.0f, 0.0f, 0.0f};    // meridian: unit, perpendicular to the axis: azimuth 0
+  // environment: the mesh point of each sample, and per mesh point its sample or -1 (not shot).
+  // Empty otherwise: sample i is mesh point i.
+  std::vector<uint32_t> mesh_points;
+  std::vector<int32_t> sample_of_point;
+
+  // The sample that holds mesh point `point`, or -1 when the set left it out.
+  int32_t sample_of(uint32_t point) const { return sample_of_point.empty() ? static_cast<int32_t>(point) : sample_of_point[point]; }
+  // What sample i's photons draw from: its mesh point, so that a part of the geodesic set shoots
+  // exactly the photons the whole set would for the same directions.
+  uint64_t seed_index(size_t sample) const { return mesh_points.empty() ? sample : mesh_points[sample]; }
 };
 
 // The geodesic set: an icosahedron subdivided `level` times, at its vertices or face centres.
 LightSampleSet geodesic_samples(int level, SampleAt at);
+// The points of a geodesic set for which keep[point] holds (kind environment), in mesh order.
+LightSampleSet geodesic_part(LightSampleSet geodesic, const std::vector<bool>& keep);
 // Samples on one meridian of `axis`: 5 2^level + 1 polar angles from the axis to its opposite, about
 // the spacing of the geodesic set of the same level.
 LightSampleSet meridian_samples(int level, const Vec3& axis);

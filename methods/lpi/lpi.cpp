@@ -1,10 +1,13 @@
 #include "methods/lpi/lpi.h"
 
+#include <chrono>
+
 #include <fmt/format.h>
 
 #include "core/errors.h"
 #include "core/parallel.h"
 #include "core/progress.h"
+#include "methods/lpi/environment.h"
 #include "methods/lpi/lookup.h"
 #include "methods/lpi/multires_layout.h"
 #include "methods/lpi/spherical_harmonics.h"
@@ -22,7 +25,8 @@ const MethodInfo& LpiMethod::static_info() {
     m.summary = "Precomputes each specular object's caustic irradiance in a volume around it (a grid, concentric "
                 "geodesic shells or an adaptive octree; or per cell spherical harmonics over light directions) for a "
                 "set of light directions, by photon tracks through the object alone; per frame "
-                "it turns the light into the object's frame and looks the caustic up, blending neighbouring light samples.";
+                "it turns the light into the object's frame and looks the caustic up, blending neighbouring light samples "
+                "(an environment map: every light sample, weighted by the map's light around it).";
     const std::vector<std::string> grid_or_sh = {"grid", "sh"}, shells = {"shells"}, multires = {"multires"}, sh = {"sh"};
     // sh fits over the whole sphere of light directions and reads no light sample by itself.
     const std::vector<std::string> sampled = {"grid", "shells", "multires"};
@@ -73,7 +77,8 @@ const MethodInfo& LpiMethod::static_info() {
         ParamSpec::integer("seed", 1, 0, 4e9, "seed of the photon paths", ParamPhase::build),
         ParamSpec::choice("light_samples", "auto", {"auto", "all"},
                           "auto: when no light's direction in an object's frame changes over the rendered frames, just "
-                          "those directions; otherwise (and with all) the geodesic set",
+                          "those directions; with an environment light, the geodesic samples its map lights; otherwise "
+                          "(and with all) the geodesic set",
                           ParamPhase::build)
             .only_when("storage", sampled),
         ParamSpec::integer("light_subdivision", 2, 0, 6,
@@ -97,14 +102,16 @@ const MethodInfo& LpiMethod::static_info() {
     };
     Capabilities& c = m.capabilities;
     c.reflection = c.refraction = true;
-    c.directional_light = true;
+    c.directional_light = c.environment_light = true;
     c.moving_light = c.moving_objects = true;
     c.non_lambertian_receivers = true;
     c.notes = {
         {"multiple_bounces", "any number within one object (glass in and out, a ring's self-reflections); none between "
                              "objects: each object's caustic is precomputed alone"},
         {"point_light", "taken as a directional light from the object's centre, with the irradiance there"},
-        {"environment_light", "refused for now"},
+        {"environment_light", "beyond the paper: the light samples' volumes weighted by the map's light over each "
+                              "sample's barycentric hat function (storage: sh: a dot product with the map's projection, "
+                              "as precomputed radiance transfer); not with symmetry axial or spherical"},
         {"moving_light", "light samples over the directions the light takes in the object's frame, blended per frame"},
         {"moving_objects", "the caustic moves and turns with its object; a changing scale is not followed"},
         {"occlusion", "the caustic reaches receivers behind other objects"},
@@ -169,12 +176,6 @@ void LpiMethod::check_scene(const Scene& scene) const {
     throw InputError(fmt::format("{}: lpi precomputes the caustics of specular objects, and the scene has none",
                                  scene.source));
   }
-  for (const Light& light : scene.lights) {
-    if (light.kind == LightKind::environment_image || light.kind == LightKind::gaussian_spot) {
-      throw InputError(fmt::format("{}: light '{}' is an environment light; lpi renders directional and point lights only",
-                                   scene.source, light.name));
-    }
-  }
 }
 
 void LpiMethod::prepare(const PrepareContext& context, const ParamSet& build) {
@@ -198,11 +199,14 @@ void LpiMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
   const std::string blend_name = harmonic ? "" : frame_knobs.text("blend");
   const Blend blend = blend_name == "nearest" ? Blend::nearest : blend_name == "barycentric" ? Blend::barycentric : Blend::aligned;
   frame_.assign(objects_.size(), ObjectFrame{});
+  environment_.resize(objects_.size());
   for (size_t i = 0; i < objects_.size(); ++i) {
     const ObjectVolumes& object = objects_[i];
     ObjectFrame& view = frame_[i];
     view.map = build_space_map(scene_->objects[object.object], frame.frame.frame);
+    update_environment(i, frame.frame.lights, view.map);
     for (const LightFrame& light : frame.frame.lights) {
+      if (is_environment_light(light.kind)) continue;  // in environment_[i]
       const ObjectLight seen = object_light(view.map, light, object.bounds.center);
       if (!seen.valid) continue;
       lpi::LightView light_view;
@@ -218,6 +222,52 @@ void LpiMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
       view.lights.push_back(light_view);
     }
   }
+}
+
+// An environment light's weights (environment.h) depend on the object's turn and the light's pose
+// only: when neither changed since the last frame, the combined volume serves again.
+void LpiMethod::update_environment(size_t object_index, const std::vector<LightFrame>& lights, const BuildSpaceMap& map) {
+  const ObjectVolumes& object = objects_[object_index];
+  EnvironmentState& state = environment_[object_index];
+  std::vector<Vec3> pose = {map.linear[0], map.linear[1], map.linear[2]};
+  for (const LightFrame& light : lights)
+    if (is_environment_light(light.kind)) pose.push_back(light.direction_to_light);
+  if (pose.size() == 3) {
+    state = EnvironmentState{};
+    return;
+  }
+  if (state.active && state.pose == pose) return;
+  const auto start = std::chrono::steady_clock::now();
+  const bool harmonic = settings_.storage == StorageKind::sh;
+  const int bands = settings_.sh_order + 1;
+  const double cell_angle = harmonic ? harmonic_quadrature_angle(bands) : hat_quadrature_angle(*object.samples.mesh);
+  std::vector<glm::dvec3> block_weights(object.values.light_samples(), glm::dvec3(0.0));
+  state.quadrature_points = 0;
+  state.outside_set = glm::dvec3(0.0);
+  for (const LightFrame& light : lights) {
+    if (!is_environment_light(light.kind)) continue;
+    const EnvironmentQuadrature quadrature = environment_quadrature(light, cell_angle);
+    state.quadrature_points += quadrature.directions.size();
+    if (harmonic) {
+      const std::vector<glm::dvec3> weights = harmonic_weights(bands, quadrature, map.linear);
+      for (size_t k = 0; k < weights.size(); ++k) block_weights[k] += weights[k];
+      continue;
+    }
+    const std::vector<glm::dvec3> weights = hat_weights(*object.samples.mesh, quadrature, map.linear);
+    for (uint32_t point = 0; point < weights.size(); ++point) {
+      const int32_t sample = object.samples.sample_of(point);
+      // The plan holds every point the rendered frames light; a frame it was not told of may not.
+      if (sample >= 0) {
+        block_weights[static_cast<size_t>(sample)] += weights[point];
+      } else {
+        state.outside_set += weights[point];
+      }
+    }
+  }
+  state.values = combine_blocks(object.values, block_weights);
+  state.pose = std::move(pose);
+  state.active = true;
+  state.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
@@ -236,6 +286,20 @@ Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
       } else {
         add_object_caustic(static_cast<const ShellLayout&>(*object.layout), view, gbuffer, begin, end, result);
       }
+      // The environment lights: one read of the combined volume, whose weights carry their colour.
+      if (!environment_[i].active) continue;
+      LightView light;
+      light.irradiance = Color(1.0f);
+      light.reads.count = 1;
+      light.reads.reads[0] = SampleRead{0, 1.0f, false, glm::mat3(1.0f)};
+      const ObjectView lit{environment_[i].values, frame_[i].map, &light, 1, mode};
+      if (const auto* grid = dynamic_cast<const GridLayout*>(object.layout.get())) {
+        add_object_caustic(*grid, lit, gbuffer, begin, end, result);
+      } else if (const auto* tree = dynamic_cast<const MultiresLayout*>(object.layout.get())) {
+        add_object_caustic(*tree, lit, gbuffer, begin, end, result);
+      } else {
+        add_object_caustic(static_cast<const ShellLayout&>(*object.layout), lit, gbuffer, begin, end, result);
+      }
     }
   });
   return result;
@@ -247,6 +311,7 @@ size_t LpiMethod::memory_bytes() const {
     bytes += object.values.memory_bytes() + object.layout->memory_bytes() + object.layout->index_bytes();
     if (object.samples.mesh) bytes += object.samples.mesh->memory_bytes();
   }
+  for (const EnvironmentState& state : environment_) bytes += state.values.memory_bytes();
   return bytes;
 }
 
@@ -282,6 +347,13 @@ nlohmann::json LpiMethod::record() const {
       entry["finest_cells"] = tree->deposit_points();
     }
     if (object.harmonic) entry["coefficients"] = object.values.light_samples();
+    const size_t index = objects.size();
+    if (index < environment_.size() && environment_[index].active) {
+      const EnvironmentState& state = environment_[index];
+      entry["environment"] = {{"quadrature_points", state.quadrature_points},
+                              {"seconds", state.seconds},
+                              {"irradiance_outside_set", luminance(Color(state.outside_set))}};
+    }
     objects.push_back(std::move(entry));
   }
   return {{"objects", objects}};

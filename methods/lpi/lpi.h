@@ -34,14 +34,26 @@ class LpiMethod : public CausticMethod {
     std::vector<lpi::LightView> lights;
   };
 
+  // An object's environment lights, this frame: the stored blocks combined by the map's weights.
+  struct EnvironmentState {
+    bool active = false;
+    std::vector<Vec3> pose;  // the object's turn (three columns) and each environment light's direction
+    lpi::StoredValues values;
+    size_t quadrature_points = 0;
+    glm::dvec3 outside_set{0.0};  // irradiance on points the plan left out (frames it was not told of)
+    double seconds = 0.0;         // the last weighing and combining
+  };
+
   // The volumes' sample sets and layouts, without their values (prepare() shoots them, load_build()
   // reads them).
   void plan(const PrepareContext& context, const ParamSet& build);
+  void update_environment(size_t object, const std::vector<LightFrame>& lights, const BuildSpaceMap& map);
 
   lpi::VolumeSettings settings_;
   const Scene* scene_ = nullptr;
   std::vector<lpi::ObjectVolumes> objects_;
   std::vector<ObjectFrame> frame_;
+  std::vector<EnvironmentState> environment_;
 };
 
 namespace lpi {

@@ -1,5 +1,6 @@
 // lpi's build: which light samples each object needs (plan), and the build cache's view of them:
 // what determines them (build_dependencies) and their files (save_build, load_build).
+#include <algorithm>
 #include <filesystem>
 #include <cstring>
 #include <fstream>
@@ -8,6 +9,7 @@
 
 #include "core/errors.h"
 #include "core/scene_description.h"
+#include "methods/lpi/environment.h"
 #include "methods/lpi/spherical_harmonics.h"
 #include "methods/lpi/lpi.h"
 
@@ -16,6 +18,92 @@ namespace causticbench {
 using namespace lpi;
 
 namespace {
+
+bool has_environment_light(const Scene& scene) {
+  for (const Light& light : scene.lights)
+    if (is_environment_light(light.kind)) return true;
+  return false;
+}
+
+// Per point of the geodesic set: whether some light needs it at some rendered frame. An environment
+// light needs every point whose hat function its map lights (a non-zero weight, environment.h) in
+// the object's frame at any frame; a directional or point light that does not turn there needs the
+// corners its blend reads and its nearest point; one that turns needs them all.
+std::vector<bool> needed_points(const Scene& scene, int object, const BoundingSphere& bounds, const std::vector<int>& frames,
+                                const SphericalMesh& mesh) {
+  std::vector<bool> needed(mesh.points().size(), false);
+  const double cell_angle = hat_quadrature_angle(mesh);
+  for (const Light& light : scene.lights) {
+    if (!is_environment_light(light.kind)) continue;
+    std::vector<std::pair<glm::mat3, Vec3>> done;  // (to build space, direction) already weighed
+    for (int frame : frames) {
+      const BuildSpaceMap map = build_space_map(scene.objects[object], frame);
+      const LightFrame posed = pose_light(light, frame);
+      const std::pair<glm::mat3, Vec3> pose(map.linear, posed.direction_to_light);
+      if (std::find(done.begin(), done.end(), pose) != done.end()) continue;
+      done.push_back(pose);
+      const std::vector<glm::dvec3> weights = hat_weights(mesh, environment_quadrature(posed, cell_angle), map.linear);
+      for (size_t point = 0; point < weights.size(); ++point) needed[point] = needed[point] || weights[point] != glm::dvec3(0.0);
+    }
+  }
+  std::vector<std::vector<Vec3>> directions = object_light_directions(scene, object, bounds.center, frames);
+  for (size_t l = 0; l < scene.lights.size(); ++l) {
+    if (is_environment_light(scene.lights[l].kind) || directions[l].empty()) continue;
+    if (!fixed_light_directions({directions[l]})) return std::vector<bool>(needed.size(), true);
+    const Vec3 direction = directions[l].front();
+    needed[mesh.nearest_point(direction)] = true;
+    const SphericalMesh::Location location = mesh.locate(direction);
+    for (int corner = 0; corner < 3; ++corner) {
+      if (location.weights[corner] > 0.0f) needed[mesh.triangles()[location.triangle][corner]] = true;
+    }
+  }
+  return needed;
+}
+
+// An environment light: the geodesic set, or with light_samples: auto the part of it the scene's
+// lights reach. Symmetry cannot serve it: both symmetries turn the read point with the light's
+// direction, so a map's many directions would each need the volume read at a differently turned
+// point, not a weighted sum of stored volumes.
+LightSampleSet environment_samples(const Scene& scene, int object, const BoundingSphere& bounds,
+                                   const std::vector<int>& frames, const ParamSet& build) {
+  const std::string symmetry = build.text("symmetry");
+  if (symmetry != "none") {
+    std::string light_name;
+    for (const Light& light : scene.lights)
+      if (is_environment_light(light.kind) && light_name.empty()) light_name = light.name.empty() ? "(unnamed)" : light.name;
+    throw InputError(fmt::format(
+        "{}: light '{}' is an environment light, and lpi with symmetry: {} {}: the light from each of the map's "
+        "directions would need the stored volume read at a differently turned point, which is not a weighted sum of "
+        "light samples; use symmetry: none (the geodesic set, or its part the map lights) or storage: sh",
+        scene.source, light_name, symmetry,
+        symmetry == "spherical" ? "stores one light sample and turns every direction onto it"
+                                : "stores samples on one meridian and turns the light about the axis onto it"));
+  }
+  const int level = static_cast<int>(build.integer("light_subdivision"));
+  const std::string at = build.text("light_sample_at");
+  LightSampleSet full = geodesic_samples(level, at == "vertices" ? SampleAt::vertices : SampleAt::faces);
+  const size_t total = full.directions.size();
+  if (build.text("light_samples") == "all") {
+    full.reason = fmt::format("light_samples: all, with an environment light: the geodesic set, subdivision {} at its "
+                              "{}, {} samples, each weighted by the map's light over its hat function",
+                              level, at, total);
+    return full;
+  }
+  const std::vector<bool> needed = needed_points(scene, object, bounds, frames, *full.mesh);
+  const size_t count = static_cast<size_t>(std::count(needed.begin(), needed.end(), true));
+  if (count == total) {
+    full.reason = fmt::format("light_samples: auto, with an environment light that lights the whole sphere of "
+                              "directions in the object's frame: the geodesic set, subdivision {} at its {}, {} samples",
+                              level, at, total);
+    return full;
+  }
+  LightSampleSet part = geodesic_part(std::move(full), needed);
+  part.reason = fmt::format("light_samples: auto, with an environment light: {} of the {} samples of the geodesic set "
+                            "(subdivision {} at its {}), those whose hat function the map lights at some rendered frame "
+                            "(and any other light's blend reads); the map leaves the other {} dark",
+                            count, total, level, at, total - count);
+  return part;
+}
 
 // Model only what the scene requires: a light whose direction in the object's frame never changes
 // gets its one direction; otherwise the set the knobs describe.
@@ -32,6 +120,7 @@ LightSampleSet choose_samples(const Scene& scene, int object, const BoundingSphe
                              level, build.text("light_sample_at"), set.directions.size());
     return set;
   }
+  if (has_environment_light(scene)) return environment_samples(scene, object, bounds, frames, build);
   const std::vector<std::vector<Vec3>> directions = object_light_directions(scene, object, bounds.center, frames);
   const std::string symmetry = build.text("symmetry");
   if (symmetry == "spherical") {
@@ -87,6 +176,7 @@ void LpiMethod::plan(const PrepareContext& context, const ParamSet& build) {
   scene_ = &context.scene;
   objects_.clear();
   frame_.clear();
+  environment_.clear();
   for (int object : context.rest.specular_objects()) {
     ObjectVolumes volumes;
     volumes.object = object;
@@ -119,6 +209,7 @@ std::optional<nlohmann::json> LpiMethod::build_dependencies(const PrepareContext
     const glm::dvec3 scale = source.transform.scale.at(0.0);
     nlohmann::json samples = {{"kind", set.kind}};
     if (set.kind == "static" || set.kind == "spherical") samples["directions"] = directions_json(set.directions);
+    if (set.kind == "environment") samples["points"] = set.mesh_points;
     objects.push_back({{"shape", shape_json(source.shape)},
                        {"material", material_json(source.material)},
                        {"scale", {scale.x, scale.y, scale.z}},

@@ -67,7 +67,7 @@ void shoot_light_samples(const Scene& build_scene, const VolumeSettings& setting
     std::fill(total.begin(), total.end(), 0.0);
     const uint64_t photons = settings.photons_per_sample;
     const uint64_t chunks = (photons + chunk_size - 1) / chunk_size;
-    const uint64_t first_index = static_cast<uint64_t>(sample) << 32;
+    const uint64_t first_index = volumes.samples.seed_index(sample) << 32;
     for (uint64_t wave_start = 0; wave_start < chunks; wave_start += wave) {
       const size_t in_wave = static_cast<size_t>(std::min<uint64_t>(wave, chunks - wave_start));
       parallel_blocks(in_wave, 1, [&](size_t slot, size_t, size_t) {

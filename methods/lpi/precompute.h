@@ -63,8 +63,9 @@ size_t stored_blocks(const VolumeSettings& settings, const ObjectVolumes& volume
 double bytes_per_light_sample(const ObjectVolumes& volumes);
 
 // Computes volumes.values for every direction of volumes.samples: photons_per_sample photons per
-// light sample, photon i of sample s drawing only from Random(seed, s 2^32 + i) and summed in fixed
-// chunks, so that the result does not depend on the thread count. An adaptive layout then adapts to
+// light sample, photon i of sample s drawing only from Random(seed, s 2^32 + i) (s: its
+// LightSampleSet::seed_index) and summed in fixed chunks, so that the result does not depend on the
+// thread count. An adaptive layout then adapts to
 // every sample's values; storage: sh fits its coefficients to them. `report(done, total)` after each
 // light sample.
 void shoot_light_samples(const Scene& build_scene, const VolumeSettings& settings, ObjectVolumes& volumes,
