@@ -42,6 +42,7 @@ class LpiMethod : public CausticMethod {
   const Scene* scene_ = nullptr;
   std::vector<lpi::ObjectVolumes> objects_;
   std::vector<ObjectFrame> frame_;
+  double volume_reads_ = 0.0;  // of the last render(), for the counter volume_reads_per_frame
 };
 
 namespace lpi {
