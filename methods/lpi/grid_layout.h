@@ -4,8 +4,6 @@
 // interpolation between cell centres (clamped to the outermost centres).
 #pragma once
 
-#include <algorithm>
-
 #include "methods/lpi/volume_layout.h"
 
 namespace causticbench::lpi {
@@ -31,31 +29,5 @@ class GridLayout final : public VolumeLayout {
   float cell_;
   Vec3 minimum_;  // corner of the cube
 };
-
-// In the header, so that it inlines into lpi's per-pixel lookup (methods/lpi/lookup.h): out of line it
-// took a quarter of a barycentric frame's time in calls.
-inline Stencil GridLayout::stencil(const Vec3& position) const {
-  Stencil stencil;
-  int base[3];
-  float fraction[3];
-  for (int axis = 0; axis < 3; ++axis) {
-    // Cell centres sit at half-integer coordinates; beyond the outermost ones the value is held.
-    float local = (position[axis] - minimum_[axis]) / cell_ - 0.5f;
-    local = std::clamp(local, 0.0f, static_cast<float>(resolution_ - 1));
-    base[axis] = std::min(static_cast<int>(local), std::max(0, resolution_ - 2));
-    fraction[axis] = resolution_ > 1 ? local - static_cast<float>(base[axis]) : 0.0f;
-  }
-  const int upper = resolution_ > 1 ? 1 : 0;
-  for (int corner = 0; corner < 8; ++corner) {
-    const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
-    if ((dx || dy || dz) && !upper) continue;
-    const float weight = (dx ? fraction[0] : 1.0f - fraction[0]) * (dy ? fraction[1] : 1.0f - fraction[1]) *
-                         (dz ? fraction[2] : 1.0f - fraction[2]);
-    stencil.points[stencil.count] = static_cast<uint32_t>(index(base[0] + dx, base[1] + dy, base[2] + dz));
-    stencil.weights[stencil.count] = weight;
-    ++stencil.count;
-  }
-  return stencil;
-}
 
 }  // namespace causticbench::lpi

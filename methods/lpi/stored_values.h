@@ -58,9 +58,7 @@ class StoredValues {
   std::vector<float> scales_;  // per light sample: the uint8 step; 1 otherwise
 };
 
-// Forced inline: called per stencil point in the per-pixel lookup, where a call costs more than the work.
-__attribute__((always_inline)) inline void StoredValues::add(size_t light_sample, size_t point, float weight,
-                                                           float* out) const {
+inline void StoredValues::add(size_t light_sample, size_t point, float weight, float* out) const {
   const size_t first = (light_sample * points_ + point) * static_cast<size_t>(channels_);
   switch (precision_) {
     case Precision::float32: {
