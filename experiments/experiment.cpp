@@ -430,8 +430,31 @@ Experiment load_experiment(const std::string& path) {
         varied.insert(name);
       }
     }
+    // `variants`: the entry runs only on the variants it names (a per-object setting in an experiment
+    // whose variants are different objects), every variant without it.
+    std::vector<bool> on_variant(experiment.variants.size(), true);
+    if (std::optional<ConfigNode> node = entry.optional_child("variants")) {
+      std::vector<std::string> names;
+      for (const SceneVariant& variant : experiment.variants) names.push_back(variant.name);
+      if (!node->is_sequence() || node->size() == 0) node->fail_here("a non-empty list of variant names", node->describe_value());
+      on_variant.assign(experiment.variants.size(), false);
+      for (size_t i = 0; i < node->size(); ++i) {
+        ConfigNode item = node->at(i);
+        const std::string name = item.as_string();
+        const auto found = std::find(names.begin(), names.end(), name);
+        if (found == names.end()) {
+          item.fail_here(fmt::format("the name of one of the experiment's variants ({}){}", join(names, ", "),
+                                     did_you_mean(name, names)),
+                         "'" + name + "'");
+        }
+        const size_t index = static_cast<size_t>(found - names.begin());
+        if (on_variant[index]) item.fail_here("each variant once", "'" + name + "' again");
+        on_variant[index] = true;
+      }
+    }
+    const size_t entry_variants = static_cast<size_t>(std::count(on_variant.begin(), on_variant.end(), true));
     entry.finish();
-    double entry_runs = static_cast<double>(zip.empty() ? 1 : zip.front().second.size()) * experiment.variants.size();
+    double entry_runs = static_cast<double>(zip.empty() ? 1 : zip.front().second.size()) * entry_variants;
     std::string product = fmt::format("{}", zip.empty() ? 1 : zip.front().second.size());
     for (const auto& [name, values] : sweep) {
       entry_runs *= static_cast<double>(values.size());
@@ -443,9 +466,7 @@ Experiment load_experiment(const std::string& path) {
                         fmt::format("at most max_runs = {} runs in the experiment (set `max_runs`, up to {}, to allow "
                                     "more)", max_runs, kLargestMaximumRuns),
                         fmt::format("{:.0f} runs up to this entry, {:.0f} of them here: {}{}", counted_runs, entry_runs,
-                                    product, experiment.variants.size() > 1
-                                                 ? fmt::format(" x {} variants", experiment.variants.size())
-                                                 : ""));
+                                    product, entry_variants > 1 ? fmt::format(" x {} variants", entry_variants) : ""));
     }
     // The knobs do not depend on the variant: resolve them once, then run them on every variant.
     std::vector<std::pair<RunSpec, std::string>> resolved;  // knobs, swept text
@@ -482,6 +503,7 @@ Experiment load_experiment(const std::string& path) {
       }
     }
     for (size_t v = 0; v < experiment.variants.size(); ++v) {
+      if (!on_variant[v]) continue;
       const SceneVariant& variant = experiment.variants[v];
       for (const auto& [knobs, swept_text] : resolved) {
         RunSpec run = knobs;

@@ -34,7 +34,8 @@ struct RunSpec {
 };
 
 // One version of the experiment's scene: the base overrides with a variant's on top (a resolution, a
-// camera, a light), and the reference that goes with it. Every method entry runs on every variant. A
+// camera, a light), and the reference that goes with it. Every method entry runs on every variant (or on
+// those its `variants` list names). A
 // variant may name a scene file of its own (an extremes or capability case: another object, another
 // material); the base overrides then apply to that scene.
 struct SceneVariant {

@@ -81,10 +81,15 @@ nlohmann::json read_paper(const ConfigNode& node) {
     out["match"] = nlohmann::json::object();
     if (std::optional<ConfigNode> match = row.optional_child("match")) {
       // Resolved like knobs, so that a typo is caught and values compare by type (100 == 1e2).
+      // `variant: NAME` picks the runs of one scene variant (a row per object of a table); the report
+      // matches it by name. The other keys are knobs.
+      std::optional<std::string> variant;
+      if (match->has("variant")) variant = match->child("variant").as_string();
       ParamDict dict;
-      dict.set_from_config(*match);
+      for (const std::string& key : match->keys())
+        if (key != "variant") dict.set(key, match->child(key).as_string(), match->child(key).location());
       nlohmann::json resolved = dict.resolve(info->params, method).to_json();
-      for (const std::string& key : match->keys()) out["match"][key] = resolved[key];
+      for (const std::string& key : match->keys()) out["match"][key] = key == "variant" ? nlohmann::json(*variant) : resolved[key];
     }
     out["values"] = nlohmann::json::object();
     ConfigNode values = row.child("values");

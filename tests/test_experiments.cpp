@@ -192,6 +192,42 @@ variants:
   EXPECT_NE(message.find("a non-empty list"), std::string::npos) << message;
 }
 
+// A method entry's `variants` runs it on those variants only (a per-object setting where the variants are
+// objects), with the keys it would have had on them; a paper row's `variant` picks one variant's runs.
+TEST(Experiment, MethodEntryRunsOnTheVariantsItNames) {
+  ExperimentFolder folder("experiment_entry_variants");
+  const std::string two = replace(kExperiment, "repetitions: 1",
+                                  "repetitions: 1\nvariants: [{name: small, resolution: [8, 8]}, {name: large, resolution: [16, 16]}]");
+  const Experiment all = load_experiment(folder.write("all.yaml", two));
+  ASSERT_EQ(all.runs.size(), 12u);
+  const Experiment large = load_experiment(folder.write("large.yaml", replace(two, "    render:", "    variants: [large]\n    render:")));
+  ASSERT_EQ(large.runs.size(), 6u);
+  std::set<std::string> keys_on_large;
+  for (const RunSpec& run : all.runs)
+    if (all.variants[run.variant].name == "large") keys_on_large.insert(run.key);
+  for (const RunSpec& run : large.runs) {
+    EXPECT_EQ(large.variants[run.variant].name, "large");
+    EXPECT_TRUE(keys_on_large.count(run.key)) << "the same run, the same key";
+  }
+  // An unknown or repeated name, an empty list.
+  std::string message = error_of(folder, replace(two, "    render:", "    variants: [lareg]\n    render:"));
+  EXPECT_NE(message.find("did you mean 'large'"), std::string::npos) << message;
+  EXPECT_NE(message.find("bad.yaml:8:"), std::string::npos) << message;
+  message = error_of(folder, replace(two, "    render:", "    variants: [large, large]\n    render:"));
+  EXPECT_NE(message.find("'large' again"), std::string::npos) << message;
+  message = error_of(folder, replace(two, "    render:", "    variants: []\n    render:"));
+  EXPECT_NE(message.find("a non-empty list of variant names"), std::string::npos) << message;
+  // max_runs counts the entry's variants only: 6 runs fit under 6.
+  EXPECT_NO_THROW(load_experiment(folder.write("max.yaml", replace(replace(two, "    render:", "    variants: [large]\n    render:"),
+                                                                    "repetitions: 1", "repetitions: 1\nmax_runs: 6"))));
+  // A paper row may match a variant by name, beside knobs.
+  const Experiment paper = load_experiment(folder.write(
+      "paper.yaml", two + "paper:\n  title: t\n  columns: [frame_ms]\n  rows:\n"
+                          "    - {method: photon_map, match: {variant: large, photons: 1000}, values: {frame_ms: 3}}\n"));
+  EXPECT_EQ(paper.report.paper.at("rows").at(0).at("match").at("variant"), "large");
+  EXPECT_EQ(paper.report.paper.at("rows").at(0).at("match").at("photons"), 1000);
+}
+
 // A variant may name a scene file of its own (an extremes or capability case): it starts from that
 // file, the base overrides apply to it, its content enters the reference's and the runs' keys, and it is
 // named after the file unless it says otherwise.

@@ -243,3 +243,24 @@ TEST(Lpi, ExtremesAreFiniteAndSane) {
     for (float value : result.caustic.values()) ASSERT_TRUE(std::isfinite(value) && value >= 0.0f) << level;
   }
 }
+
+// The lookup-rate counter: every receiver point reads one light sample (nearest) or three (barycentric,
+// aligned) per object and light, or one coefficient stencil (sh); divided by render_ms it is the rate
+// of volume reads the Performance section of issue 11 asks for.
+TEST(Lpi, CountsTheVolumeReadsOfAFrame) {
+  const Scene scene = scene_from_yaml(kSmallGlassSphere);
+  auto reads = [&](std::vector<std::string> knobs) {
+    knobs.insert(knobs.end(), {"photons_per_sample=200", "grid_resolution=4", "light_subdivision=0"});
+    const FrameResult result = causticbench::testing::render(scene, "lpi", knobs, 0);
+    double counted = -1.0;
+    for (const auto& [name, value] : result.counters)
+      if (name == "volume_reads_per_frame") counted = value;
+    return std::make_pair(counted, static_cast<double>(result.gbuffer.receiver_count()));
+  };
+  const auto [nearest, receivers] = reads({"light_samples=all", "blend=nearest"});
+  ASSERT_GT(receivers, 0.0);
+  EXPECT_EQ(nearest, receivers);
+  EXPECT_EQ(reads({"light_samples=all", "blend=barycentric"}).first, 3.0 * receivers);
+  EXPECT_EQ(reads({"light_samples=all", "blend=aligned"}).first, 3.0 * receivers);
+  EXPECT_EQ(reads({"storage=sh", "sh_order=1"}).first, receivers);
+}

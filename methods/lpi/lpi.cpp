@@ -123,7 +123,10 @@ const MethodInfo& LpiMethod::static_info() {
                   counter_quantity("shoot_seconds_per_light_sample", "s", "precomputation time per light sample",
                                    QuantityKind::timing),
                   counter_quantity("bytes_per_light_sample", "bytes", "stored irradiance per light sample",
-                                   QuantityKind::size)};
+                                   QuantityKind::size),
+                  counter_quantity("volume_reads_per_frame", "reads",
+                                   "interpolated volume reads of the last frame rendered: receiver points x light "
+                                   "samples read, over objects and lights (divided by render_ms: the lookup rate)")};
     return m;
   }();
   return info;
@@ -272,6 +275,12 @@ void LpiMethod::update_environment(size_t object_index, const std::vector<LightF
 
 Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
   Image result(gbuffer.width, gbuffer.height, 3);
+  // Counted from the frame's plan, not in the per-pixel loop: each receiver point reads each light's
+  // samples (one coefficient stencil for storage: sh) of every object.
+  size_t reads_per_point = 0;
+  for (const ObjectFrame& view : frame_)
+    for (const lpi::LightView& light : view.lights) reads_per_point += light.harmonics.empty() ? light.reads.count : 1;
+  volume_reads_ = static_cast<double>(gbuffer.receiver_count()) * static_cast<double>(reads_per_point);
   const std::string outside = render.text("outside");
   const Outside mode = outside == "clamp" ? Outside::clamp : outside == "fade" ? Outside::fade : Outside::zero;
   parallel_blocks(gbuffer.pixel_count(), 1024, [&](size_t begin, size_t end, size_t) {
@@ -326,7 +335,8 @@ Counters LpiMethod::counters() const {
   return {{"light_samples", samples},
           {"photons_emitted", photons},
           {"shoot_seconds_per_light_sample", samples > 0.0 ? seconds / samples : 0.0},
-          {"bytes_per_light_sample", bytes_per_sample}};
+          {"bytes_per_light_sample", bytes_per_sample},
+          {"volume_reads_per_frame", volume_reads_}};
 }
 
 nlohmann::json LpiMethod::record() const {

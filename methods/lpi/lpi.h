@@ -54,6 +54,7 @@ class LpiMethod : public CausticMethod {
   std::vector<lpi::ObjectVolumes> objects_;
   std::vector<ObjectFrame> frame_;
   std::vector<EnvironmentState> environment_;
+  double volume_reads_ = 0.0;  // of the last render(), for the counter volume_reads_per_frame
 };
 
 namespace lpi {
