@@ -8,6 +8,7 @@
 
 #include "core/errors.h"
 #include "core/scene_description.h"
+#include "methods/lpi/gpu_frame.h"
 #include "methods/lpi/spherical_harmonics.h"
 #include "methods/lpi/lpi.h"
 
@@ -84,6 +85,8 @@ const char* kValuesFormat = "causticbench lpi values 1";
 
 void LpiMethod::plan(const PrepareContext& context, const ParamSet& build) {
   settings_ = volume_settings(build);
+  backend_ = build.text("backend");
+  if (backend_ == "vulkan") check_vulkan_supports(settings_);
   scene_ = &context.scene;
   objects_.clear();
   frame_.clear();
@@ -110,6 +113,8 @@ void LpiMethod::plan(const PrepareContext& context, const ParamSet& build) {
 // Per specular object: its shape, material and scale at frame 0 (not where it stands or how it is
 // turned: the build is in the object's own frame), and the light directions its set holds.
 std::optional<nlohmann::json> LpiMethod::build_dependencies(const PrepareContext& context, const ParamSet& build) const {
+  // Refused before the cache is looked at: a combination the kernel does not evaluate.
+  if (build.text("backend") == "vulkan") check_vulkan_supports(volume_settings(build));
   nlohmann::json objects = nlohmann::json::array();
   for (int object : context.rest.specular_objects()) {
     const SceneObject& source = context.scene.objects[object];
@@ -124,7 +129,10 @@ std::optional<nlohmann::json> LpiMethod::build_dependencies(const PrepareContext
                        {"scale", {scale.x, scale.y, scale.z}},
                        {"light_samples", samples}});
   }
-  return nlohmann::json{{"objects", objects}, {"build", build.to_json()}};
+  // The backend reads the volumes; it does not make them.
+  nlohmann::json knobs = build.to_json();
+  knobs.erase("backend");
+  return nlohmann::json{{"objects", objects}, {"build", knobs}};
 }
 
 // One file per object: a header line, then the stored values' raw bytes and their uint8 scales.
@@ -209,6 +217,7 @@ void LpiMethod::load_build(const PrepareContext& context, const ParamSet& build,
     object.stats = PhotonStats{meta[i].value("emitted", uint64_t{0}), meta[i].value("deposited", uint64_t{0}),
                                meta[i].value("rays", uint64_t{0})};
   }
+  start_backend();
 }
 
 }  // namespace causticbench
