@@ -96,9 +96,9 @@ TEST(LpiVulkan, AgreesWithTheCpuBackendOnGridAndShells) {
   }
 }
 
-// The backend reads the volumes, it does not make them: both share one build. And at its default it
-// stays out of the run key (runs from before the knob keep theirs); vulkan is another run.
-TEST(LpiVulkan, TheBackendsShareTheBuildAndCpuKeepsOldRunKeys) {
+// At its default the backend stays out of the run key and of the build key (runs and stored builds
+// from before the knob keep theirs); vulkan is another run with a build of its own.
+TEST(LpiVulkan, CpuKeepsOldRunAndBuildKeys) {
   const MethodInfo& info = find_method("lpi").info();
   auto resolve = [&](const std::vector<std::string>& knobs) {
     ParamDict dict;
@@ -113,8 +113,9 @@ TEST(LpiVulkan, TheBackendsShareTheBuildAndCpuKeepsOldRunKeys) {
   const Scene scene = scene_from_yaml(kTwoObjects);
   RestPose rest(scene, {0, 1});
   std::unique_ptr<CausticMethod> probe = create_method("lpi");
-  EXPECT_EQ(probe->build_dependencies(rest.context(), split_phases(cpu, info.params).build),
-            probe->build_dependencies(rest.context(), split_phases(vulkan, info.params).build));
+  const nlohmann::json cpu_build = *probe->build_dependencies(rest.context(), split_phases(cpu, info.params).build);
+  EXPECT_FALSE(cpu_build["build"].contains("backend"));
+  EXPECT_NE(cpu_build, *probe->build_dependencies(rest.context(), split_phases(vulkan, info.params).build));
 }
 
 // What the kernel does not evaluate is refused before any photon is shot, saying what it does.

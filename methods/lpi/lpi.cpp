@@ -101,8 +101,7 @@ const MethodInfo& LpiMethod::static_info() {
                           ParamPhase::render),
         // Added after experiments shipped: at cpu it stays out of their run keys.
         ParamSpec::choice("backend", "cpu", {"cpu", "vulkan"},
-                          "cpu (multithreaded) or vulkan (compute shader, storage grid and shells; lavapipe without a "
-                          "GPU); the volumes are the same build",
+                          "cpu (multithreaded) or vulkan (compute shader, storage grid and shells; lavapipe without a GPU)",
                           ParamPhase::build)
             .unkeyed_at_default(),
     };
