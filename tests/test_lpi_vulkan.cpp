@@ -125,8 +125,21 @@ TEST(LpiVulkan, RefusesStorageItDoesNotEvaluate) {
     const std::string message = causticbench::testing::input_error_message([&] {
       causticbench::testing::render(scene, "lpi", {storage, "backend=vulkan", "photons_per_sample=1000"});
     });
-    EXPECT_NE(message.find("backend vulkan evaluates storage grid and shells"), std::string::npos) << message;
+    EXPECT_NE(message.find("backend vulkan needs the Vulkan kernel, which evaluates storage grid and shells"),
+              std::string::npos)
+        << message;
   }
+  // --dump-frame writes the kernel's inputs, so it is refused the same way, before the photons are shot.
+  causticbench::testing::TemporaryFolder folder("causticbench_lpi_dump_refused");
+  const std::string path = folder.write("scene.yaml", causticbench::testing::kSmallGlassSphere);
+  std::string output;
+  const int code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " render " + path +
+                                                          " --method lpi --set storage=multires --out " + folder.path("out") +
+                                                          " --dump-frame " + folder.path("dump"),
+                                                      output);
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_NE(output.find("--dump-frame (the Vulkan kernel's inputs) needs the Vulkan kernel"), std::string::npos) << output;
+  EXPECT_EQ(output.find("lpi light samples"), std::string::npos) << "shot photons before refusing: " << output;
 }
 
 // The portable path for GPU machines: causticbench dumps an lpi frame (CPU backend), causticbench-gpubench

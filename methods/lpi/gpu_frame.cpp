@@ -56,17 +56,17 @@ void append_shells(const ShellLayout& layout, uint32_t* record, std::vector<uint
 
 }  // namespace
 
-void check_vulkan_supports(const VolumeSettings& settings) {
+void check_vulkan_supports(const VolumeSettings& settings, const std::string& what) {
   if (settings.storage == StorageKind::grid || settings.storage == StorageKind::shells) return;
   throw InputError(fmt::format(
-      "lpi: backend vulkan evaluates storage grid and shells (every blend, orientation, precision and outside mode, "
-      "any number of objects), not storage {}: use backend cpu, or storage grid or shells",
-      settings.storage == StorageKind::multires ? "multires" : "sh"));
+      "lpi: {} needs the Vulkan kernel, which evaluates storage grid and shells (every blend, symmetry, orientation, "
+      "precision and outside mode, any number of objects), not storage {}: use storage grid or shells{}",
+      what, settings.storage == StorageKind::multires ? "multires" : "sh",
+      what == "backend vulkan" ? ", or backend cpu" : ""));
 }
 
 void fill_volume_data(const VolumeSettings& settings, const std::vector<ObjectVolumes>& objects, LpiFrameData& frame) {
   using namespace lpi_record;
-  check_vulkan_supports(settings);
   frame.storage = settings.storage == StorageKind::grid ? 0 : 1;
   frame.channels = static_cast<uint32_t>(channel_count(settings.orientation));
   const bool signed_values = settings.orientation == Orientation::vector;

@@ -13,8 +13,8 @@
 namespace causticbench::lpi {
 
 // Throws InputError, saying what the kernel supports, when `settings` is not a combination it
-// evaluates (multires and sh storage).
-void check_vulkan_supports(const VolumeSettings& settings);
+// evaluates (multires and sh storage); `what` names what needs the kernel.
+void check_vulkan_supports(const VolumeSettings& settings, const std::string& what = "backend vulkan");
 
 // The build's part: values, scales, shell tables, and each object's record words that do not
 // change per frame (layout, offsets). Replaces everything else in `frame` but the receivers.

@@ -331,9 +331,13 @@ nlohmann::json LpiMethod::record() const {
           {"gpu_device", gpu_context_ && vulkan_ ? gpu_context_->device_name() : ""}};
 }
 
+void LpiMethod::check_frame_dump(const ParamSet& knobs) const {
+  check_vulkan_supports(volume_settings(knobs), "--dump-frame (the Vulkan kernel's inputs)");
+}
+
 void LpiMethod::dump_frame(const GBuffer& gbuffer, const ParamSet& render, const Image& output,
                            const std::string& folder) const {
-  check_vulkan_supports(settings_);
+  check_vulkan_supports(settings_, "--dump-frame (the Vulkan kernel's inputs)");
   // The CPU backend keeps no copy of the kernel's inputs: made here from the volumes.
   LpiFrameData frame;
   fill_volume_data(settings_, objects_, frame);

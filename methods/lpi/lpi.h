@@ -36,6 +36,7 @@ class LpiMethod : public CausticMethod {
   }
   void dump_frame(const GBuffer& gbuffer, const ParamSet& render, const Image& output,
                   const std::string& folder) const override;
+  void check_frame_dump(const ParamSet& knobs) const override;
 
  private:
   // The volumes' sample sets and layouts, without their values (prepare() shoots them, load_build()
