@@ -124,6 +124,9 @@ class CausticMethod {
   // MethodInfo::frame_dump is set).
   virtual void dump_frame(const GBuffer& gbuffer, const ParamSet& render, const Image& output,
                           const std::string& folder) const {}
+  // Throws InputError when dump_frame could not write a frame with these knobs (all phases), so that
+  // `--dump-frame` is refused before any work starts.
+  virtual void check_frame_dump(const ParamSet& knobs) const {}
 };
 
 }  // namespace causticbench

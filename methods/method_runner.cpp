@@ -32,6 +32,7 @@ CheckedRequest check_request(const RenderRequest& request) {
                                  join(able, ", "), info.name));
   }
   checked.method->create()->check_scene(*request.scene);
+  if (!request.dump_folder.empty()) checked.method->create()->check_frame_dump(checked.params);
   const Camera& camera = request.scene->camera;
   check_memory_fits(estimate_frame_memory(camera.width, camera.height, info),
                     fmt::format("{} with {} at {}x{}", request.scene->source, info.name, camera.width, camera.height));

@@ -42,6 +42,11 @@ ParamSpec& ParamSpec::only_when(std::string knob, std::vector<std::string> value
   return *this;
 }
 
+ParamSpec& ParamSpec::unkeyed_at_default() {
+  keyed_at_default = false;
+  return *this;
+}
+
 std::string ParamSpec::condition_text() const {
   if (!applies_when) return "";
   return applies_when->knob + (applies_when->values.size() == 1 ? " is " : " is one of ") + join(applies_when->values, ", ");
@@ -90,6 +95,15 @@ nlohmann::json ParamSet::to_json() const {
   nlohmann::json result = nlohmann::json::object();
   for (const auto& [name, value] : values_) {
     std::visit([&](const auto& v) { result[name] = v; }, value);
+  }
+  return result;
+}
+
+nlohmann::json ParamSet::key_json(const std::vector<ParamSpec>& specs) const {
+  nlohmann::json result = to_json();
+  for (const ParamSpec& spec : specs) {
+    auto it = values_.find(spec.name);
+    if (!spec.keyed_at_default && it != values_.end() && it->second == spec.default_value) result.erase(spec.name);
   }
   return result;
 }

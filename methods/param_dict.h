@@ -47,6 +47,9 @@ struct ParamSpec {
   std::string meaning;
   ParamPhase phase = ParamPhase::render;
   std::optional<ParamCondition> applies_when;  // none: always applies
+  // False for a knob added after experiments shipped whose default changes nothing they measured: at its
+  // default it is left out of the run key (key_params), so those runs keep their keys and results.
+  bool keyed_at_default = true;
 
   static ParamSpec integer(std::string name, int64_t fallback, double min_value, double max_value, std::string meaning,
                            ParamPhase phase);
@@ -58,6 +61,8 @@ struct ParamSpec {
 
   // Declares when the knob applies (see ParamCondition); returns *this for chaining on a factory.
   ParamSpec& only_when(std::string knob, std::vector<std::string> values);
+  // Sets keyed_at_default to false; returns *this.
+  ParamSpec& unkeyed_at_default();
 
   std::string type_name() const;
   std::string range_text() const;
@@ -78,6 +83,9 @@ class ParamSet {
   bool has(const std::string& name) const { return values_.count(name) > 0; }
   const std::map<std::string, ParamValue>& values() const { return values_; }
   nlohmann::json to_json() const;
+  // to_json without the knobs of `specs` that are not keyed at their default and hold it: what a run
+  // key hashes.
+  nlohmann::json key_json(const std::vector<ParamSpec>& specs) const;
 
  private:
   const ParamValue& get(const std::string& name) const;

@@ -90,6 +90,18 @@ class SphericalMesh {
   // adjacency.
   size_t memory_bytes() const;
 
+  // The lookup table as locate reads it, for a GPU kernel that repeats locate (methods/lpi/lpi.comp):
+  // per texel (6 table_resolution()^2, then one more) its likeliest triangle and where its other
+  // candidates start in table_candidates(); and the longest edge normal's length, which scales the
+  // edge ramp.
+  struct Texel {
+    uint32_t first;
+    uint32_t rest;
+  };
+  const std::vector<Texel>& table_texels() const { return texels_; }
+  const std::vector<uint32_t>& table_candidates() const { return candidates_; }
+  double longest_edge() const { return longest_edge_; }
+
  private:
   // What locate reads of a triangle, in one place so that a lookup touches few cache lines: its
   // corners' coordinates and indices.
@@ -97,13 +109,6 @@ class SphericalMesh {
     float corner[3][3];
     uint32_t point[3];
   };
-  // A texel's likeliest triangle, and where its other candidates start in candidates_ (they end where
-  // the next texel's start).
-  struct Texel {
-    uint32_t first;
-    uint32_t rest;
-  };
-
   SphericalMesh(const std::vector<glm::dvec3>& points, std::vector<std::array<uint32_t, 3>> triangles);
   void build_edges();
   void build_table();

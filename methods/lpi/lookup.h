@@ -27,6 +27,12 @@ struct LightView {
 
 enum class Outside { clamp, fade, zero };
 
+// One object this frame: its map into build space and its lights' reads.
+struct ObjectFrame {
+  BuildSpaceMap map;
+  std::vector<LightView> lights;
+};
+
 struct ObjectView {
   const StoredValues& values;
   const BuildSpaceMap& map;

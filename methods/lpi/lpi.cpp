@@ -8,13 +8,18 @@
 #include "core/parallel.h"
 #include "core/progress.h"
 #include "methods/lpi/environment.h"
+#include "methods/lpi/gpu_frame.h"
 #include "methods/lpi/lookup.h"
 #include "methods/lpi/multires_layout.h"
+#include "methods/lpi/vulkan_lpi.h"
 #include "methods/lpi/spherical_harmonics.h"
 
 namespace causticbench {
 
 using namespace lpi;
+
+LpiMethod::LpiMethod() = default;
+LpiMethod::~LpiMethod() = default;
 
 const MethodInfo& LpiMethod::static_info() {
   static const MethodInfo info = [] {
@@ -99,6 +104,11 @@ const MethodInfo& LpiMethod::static_info() {
         ParamSpec::choice("outside", "clamp", {"clamp", "fade", "zero"},
                           "beyond the sampled ball: the value on its surface (clamp), that times (R / d)^2 (fade), or none",
                           ParamPhase::render),
+        // Added after experiments shipped: at cpu it stays out of their run keys.
+        ParamSpec::choice("backend", "cpu", {"cpu", "vulkan"},
+                          "cpu (multithreaded) or vulkan (compute shader, storage grid and shells; lavapipe without a GPU)",
+                          ParamPhase::build)
+            .unkeyed_at_default(),
     };
     Capabilities& c = m.capabilities;
     c.reflection = c.refraction = true;
@@ -117,6 +127,7 @@ const MethodInfo& LpiMethod::static_info() {
         {"occlusion", "the caustic reaches receivers behind other objects"},
         {"non_lambertian_receivers", "E_c is irradiance, whatever the receiver's BRDF"},
     };
+    m.frame_dump = true;
     m.quick_knobs = {"photons_per_sample=20000", "light_subdivision=0"};
     m.counters = {counter_quantity("light_samples", "samples", "light directions precomputed (over all objects)"),
                   counter_quantity("photons_emitted", "photons", "photons shot over all light samples and objects"),
@@ -195,17 +206,30 @@ void LpiMethod::prepare(const PrepareContext& context, const ParamSet& build) {
     done_before += object.samples.directions.size();
   }
   progress.finish();
+  start_backend();
+}
+
+void LpiMethod::start_backend() {
+  gpu_frame_ = LpiFrameData{};
+  if (backend_ != "vulkan") {
+    vulkan_.reset();
+    return;
+  }
+  if (!gpu_context_) gpu_context_ = std::make_unique<gpu::Context>();
+  if (!vulkan_) vulkan_ = std::make_unique<VulkanLpi>(*gpu_context_);
+  fill_volume_data(settings_, objects_, gpu_frame_);
+  vulkan_->upload_volumes(gpu_frame_);
 }
 
 void LpiMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
   const bool harmonic = settings_.storage == StorageKind::sh;
   const std::string blend_name = harmonic ? "" : frame_knobs.text("blend");
   const Blend blend = blend_name == "nearest" ? Blend::nearest : blend_name == "barycentric" ? Blend::barycentric : Blend::aligned;
-  frame_.assign(objects_.size(), ObjectFrame{});
+  frame_.assign(objects_.size(), lpi::ObjectFrame{});
   environment_.resize(objects_.size());
   for (size_t i = 0; i < objects_.size(); ++i) {
     const ObjectVolumes& object = objects_[i];
-    ObjectFrame& view = frame_[i];
+    lpi::ObjectFrame& view = frame_[i];
     view.map = build_space_map(scene_->objects[object.object], frame.frame.frame);
     update_environment(i, frame.frame.lights, view.map);
     for (const LightFrame& light : frame.frame.lights) {
@@ -273,16 +297,34 @@ void LpiMethod::update_environment(size_t object_index, const std::vector<LightF
   state.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+namespace {
+
+Outside outside_mode(const ParamSet& render) {
+  const std::string& outside = render.text("outside");
+  return outside == "clamp" ? Outside::clamp : outside == "fade" ? Outside::fade : Outside::zero;
+}
+
+}  // namespace
+
 Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
   Image result(gbuffer.width, gbuffer.height, 3);
   // Counted from the frame's plan, not in the per-pixel loop: each receiver point reads each light's
   // samples (one coefficient stencil for storage: sh) of every object.
   size_t reads_per_point = 0;
-  for (const ObjectFrame& view : frame_)
+  for (const lpi::ObjectFrame& view : frame_)
     for (const lpi::LightView& light : view.lights) reads_per_point += light.harmonics.empty() ? light.reads.count : 1;
   volume_reads_ = static_cast<double>(gbuffer.receiver_count()) * static_cast<double>(reads_per_point);
-  const std::string outside = render.text("outside");
-  const Outside mode = outside == "clamp" ? Outside::clamp : outside == "fade" ? Outside::fade : Outside::zero;
+  const Outside mode = outside_mode(render);
+  if (vulkan_) {
+    fill_frame_lights(frame_, mode, gpu_frame_);
+    fill_receivers(gbuffer, gpu_frame_);
+    vulkan_->upload_frame(gpu_frame_);
+    const std::vector<float> rgba = vulkan_->render(gpu_frame_, gpu_render_ms_);
+    for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
+      result.set_rgb(pixel, Color(rgba[4 * pixel], rgba[4 * pixel + 1], rgba[4 * pixel + 2]));
+    }
+    return result;
+  }
   parallel_blocks(gbuffer.pixel_count(), 1024, [&](size_t begin, size_t end, size_t) {
     for (size_t i = 0; i < objects_.size(); ++i) {
       const ObjectVolumes& object = objects_[i];
@@ -366,7 +408,35 @@ nlohmann::json LpiMethod::record() const {
     }
     objects.push_back(std::move(entry));
   }
-  return {{"objects", objects}};
+  return {{"objects", objects},
+          {"backend", backend_},
+          {"gpu_device", gpu_context_ && vulkan_ ? gpu_context_->device_name() : ""}};
+}
+
+void LpiMethod::check_frame_dump(const ParamSet& knobs) const {
+  check_vulkan_supports(volume_settings(knobs), "--dump-frame (the Vulkan kernel's inputs)");
+}
+
+void LpiMethod::dump_frame(const GBuffer& gbuffer, const ParamSet& render, const Image& output,
+                           const std::string& folder) const {
+  check_vulkan_supports(settings_, "--dump-frame (the Vulkan kernel's inputs)");
+  for (const EnvironmentState& state : environment_)
+    if (state.active)
+      throw InputError("lpi --dump-frame: the scene has an environment light, whose combined volume the Vulkan "
+                       "kernel does not evaluate (backend: cpu only)");
+  // The CPU backend keeps no copy of the kernel's inputs: made here from the volumes.
+  LpiFrameData frame;
+  fill_volume_data(settings_, objects_, frame);
+  fill_frame_lights(frame_, outside_mode(render), frame);
+  fill_receivers(gbuffer, frame);
+  // First, so that a folder that held another method's dump names lpi before lpi's files land.
+  write_dump_method(folder, "lpi");
+  write_lpi_frame_data(frame, folder);
+  std::vector<float> rgba(gbuffer.pixel_count() * 4, 0.0f);
+  for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
+    for (int c = 0; c < 3; ++c) rgba[4 * pixel + c] = output.at(pixel, c);
+  }
+  write_floats(folder + "/" + backend_ + "_irradiance.bin", rgba);
 }
 
 }  // namespace causticbench

@@ -7,6 +7,8 @@
 #include <memory>
 #include <vector>
 
+#include "gpu/vulkan_context.h"
+#include "methods/lpi/frame_data.h"
 #include "methods/lpi/lookup.h"
 #include "methods/lpi/precompute.h"
 #include "methods/method.h"
@@ -15,6 +17,8 @@ namespace causticbench {
 
 class LpiMethod : public CausticMethod {
  public:
+  LpiMethod();
+  ~LpiMethod() override;
   static const MethodInfo& static_info();
   const MethodInfo& info() const override { return static_info(); }
   void check_scene(const Scene& scene) const override;
@@ -27,13 +31,14 @@ class LpiMethod : public CausticMethod {
   std::optional<nlohmann::json> build_dependencies(const PrepareContext& context, const ParamSet& build) const override;
   void save_build(const std::string& folder) const override;
   void load_build(const PrepareContext& context, const ParamSet& build, const std::string& folder) override;
+  std::optional<double> gpu_render_milliseconds() const override {
+    return vulkan_ ? std::optional<double>(gpu_render_ms_) : std::nullopt;
+  }
+  void dump_frame(const GBuffer& gbuffer, const ParamSet& render, const Image& output,
+                  const std::string& folder) const override;
+  void check_frame_dump(const ParamSet& knobs) const override;
 
  private:
-  struct ObjectFrame {
-    BuildSpaceMap map;
-    std::vector<lpi::LightView> lights;
-  };
-
   // An object's environment lights, this frame: the stored blocks combined by the map's weights.
   struct EnvironmentState {
     bool active = false;
@@ -48,11 +53,20 @@ class LpiMethod : public CausticMethod {
   // reads them).
   void plan(const PrepareContext& context, const ParamSet& build);
   void update_environment(size_t object, const std::vector<LightFrame>& lights, const BuildSpaceMap& map);
+  // backend: vulkan: the device, and the build's values and tables on it (after prepare or load_build).
+  void start_backend();
+
 
   lpi::VolumeSettings settings_;
   const Scene* scene_ = nullptr;
   std::vector<lpi::ObjectVolumes> objects_;
-  std::vector<ObjectFrame> frame_;
+  std::vector<lpi::ObjectFrame> frame_;
+  std::string backend_ = "cpu";
+  // backend: vulkan: the build's and the frame's inputs as the kernel takes them (receivers added at render).
+  LpiFrameData gpu_frame_;
+  std::unique_ptr<gpu::Context> gpu_context_;
+  std::unique_ptr<class VulkanLpi> vulkan_;
+  double gpu_render_ms_ = 0.0;
   std::vector<EnvironmentState> environment_;
   double volume_reads_ = 0.0;  // of the last render(), for the counter volume_reads_per_frame
 };

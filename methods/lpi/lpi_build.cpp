@@ -10,6 +10,7 @@
 #include "core/errors.h"
 #include "core/scene_description.h"
 #include "methods/lpi/environment.h"
+#include "methods/lpi/gpu_frame.h"
 #include "methods/lpi/spherical_harmonics.h"
 #include "methods/lpi/lpi.h"
 
@@ -169,10 +170,25 @@ nlohmann::json directions_json(const std::vector<Vec3>& directions) {
 
 const char* kValuesFormat = "causticbench lpi values 1";
 
+// The Vulkan kernel reads each light sample's volume with the frame's blend weights; an environment
+// light's combined volume (environment.h) is evaluated on the CPU only.
+void check_vulkan_lights(const Scene& scene) {
+  for (const Light& light : scene.lights)
+    if (is_environment_light(light.kind))
+      throw InputError(fmt::format("{}: lpi backend vulkan evaluates directional and point lights; light '{}' is an "
+                                   "environment light, which lpi renders with backend: cpu",
+                                   scene.source, light.name));
+}
+
 }  // namespace
 
 void LpiMethod::plan(const PrepareContext& context, const ParamSet& build) {
   settings_ = volume_settings(build);
+  backend_ = build.text("backend");
+  if (backend_ == "vulkan") {
+    check_vulkan_supports(settings_);
+    check_vulkan_lights(context.scene);
+  }
   scene_ = &context.scene;
   objects_.clear();
   frame_.clear();
@@ -200,6 +216,11 @@ void LpiMethod::plan(const PrepareContext& context, const ParamSet& build) {
 // Per specular object: its shape, material and scale at frame 0 (not where it stands or how it is
 // turned: the build is in the object's own frame), and the light directions its set holds.
 std::optional<nlohmann::json> LpiMethod::build_dependencies(const PrepareContext& context, const ParamSet& build) const {
+  // Refused before the cache is looked at: a combination the kernel does not evaluate.
+  if (build.text("backend") == "vulkan") {
+    check_vulkan_supports(volume_settings(build));
+    check_vulkan_lights(context.scene);
+  }
   nlohmann::json objects = nlohmann::json::array();
   for (int object : context.rest.specular_objects()) {
     const SceneObject& source = context.scene.objects[object];
@@ -215,7 +236,9 @@ std::optional<nlohmann::json> LpiMethod::build_dependencies(const PrepareContext
                        {"scale", {scale.x, scale.y, scale.z}},
                        {"light_samples", samples}});
   }
-  return nlohmann::json{{"objects", objects}, {"build", build.to_json()}};
+  // backend: cpu leaves the keys of builds stored before the knob as they were; every other build knob,
+  // vulkan included, names a build of its own (the suite's rule: tests/test_conformance.cpp).
+  return nlohmann::json{{"objects", objects}, {"build", build.key_json(static_info().params)}};
 }
 
 // One file per object: a header line, then the stored values' raw bytes and their uint8 scales.
@@ -300,6 +323,7 @@ void LpiMethod::load_build(const PrepareContext& context, const ParamSet& build,
     object.stats = PhotonStats{meta[i].value("emitted", uint64_t{0}), meta[i].value("deposited", uint64_t{0}),
                                meta[i].value("rays", uint64_t{0})};
   }
+  start_backend();
 }
 
 }  // namespace causticbench
