@@ -489,7 +489,7 @@ Experiment load_experiment(const std::string& path) {
         run.label = label + swept_text + (experiment.variants.size() > 1 ? " @" + variant.name : "");
         run.spec = {{"scene_hash", variant.scene_hash}, {"overrides", variant.overrides},
                     {"frames", experiment.frames},         {"repetitions", experiment.repetitions},
-                    {"method", info.name},                 {"params", run.params.to_json()}};
+                    {"method", info.name},                 {"params", run_key_params(run.params, info.params)}};
         run.key = hash_json(run.spec);
         if (!seen.insert(run.key).second) continue;  // the same run twice: keep one
         experiment.runs.push_back(std::move(run));

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "methods/frame_dump.h"
+#include "methods/csl/frame_replay.h"
 #include "methods/pinhole/frame_replay.h"
 
 namespace causticbench {
@@ -12,6 +13,7 @@ const std::vector<FrameDumpFormat>& frame_dump_formats() {
   // One line per method that can dump its frame (MethodInfo::frame_dump); see docs/gpu.md.
   static const std::vector<FrameDumpFormat> formats = {
       pinhole_frame_dump_format(),
+      csl_frame_dump_format(),
   };
   return formats;
 }

@@ -12,20 +12,20 @@ namespace causticbench {
 ParamSpec ParamSpec::integer(std::string name, int64_t fallback, double min_value, double max_value,
                              std::string meaning, ParamPhase phase) {
   return ParamSpec{std::move(name), ParamType::integer, fallback, min_value, max_value, {}, std::move(meaning), phase,
-                   std::nullopt};
+                   std::nullopt, true};
 }
 ParamSpec ParamSpec::real(std::string name, double fallback, double min_value, double max_value, std::string meaning,
                           ParamPhase phase) {
   return ParamSpec{std::move(name), ParamType::real, fallback, min_value, max_value, {}, std::move(meaning), phase,
-                   std::nullopt};
+                   std::nullopt, true};
 }
 ParamSpec ParamSpec::boolean(std::string name, bool fallback, std::string meaning, ParamPhase phase) {
-  return ParamSpec{std::move(name), ParamType::boolean, fallback, 0, 1, {}, std::move(meaning), phase, std::nullopt};
+  return ParamSpec{std::move(name), ParamType::boolean, fallback, 0, 1, {}, std::move(meaning), phase, std::nullopt, true};
 }
 ParamSpec ParamSpec::choice(std::string name, std::string fallback, std::vector<std::string> choices,
                             std::string meaning, ParamPhase phase) {
   return ParamSpec{std::move(name), ParamType::choice, std::move(fallback), 0, 0, std::move(choices),
-                   std::move(meaning), phase, std::nullopt};
+                   std::move(meaning), phase, std::nullopt, true};
 }
 
 std::string phase_name(ParamPhase phase) {
@@ -39,6 +39,11 @@ std::string phase_name(ParamPhase phase) {
 
 ParamSpec& ParamSpec::only_when(std::string knob, std::vector<std::string> values) {
   applies_when = ParamCondition{std::move(knob), std::move(values)};
+  return *this;
+}
+
+ParamSpec& ParamSpec::unkeyed_at_default() {
+  keyed_at_default = false;
   return *this;
 }
 
@@ -187,6 +192,16 @@ ParamSet ParamDict::resolve(const std::vector<ParamSpec>& specs, const std::stri
         }
         break;
       }
+    }
+  }
+  return result;
+}
+
+nlohmann::json run_key_params(const ParamSet& params, const std::vector<ParamSpec>& specs) {
+  nlohmann::json result = params.to_json();
+  for (const ParamSpec& spec : specs) {
+    if (!spec.keyed_at_default && params.has(spec.name) && params.values().at(spec.name) == spec.default_value) {
+      result.erase(spec.name);
     }
   }
   return result;

@@ -47,6 +47,9 @@ struct ParamSpec {
   std::string meaning;
   ParamPhase phase = ParamPhase::render;
   std::optional<ParamCondition> applies_when;  // none: always applies
+  // False for a knob added after runs were recorded whose default does what those runs did (a
+  // backend): at its default it is left out of the run key, so that they keep their keys.
+  bool keyed_at_default = true;
 
   static ParamSpec integer(std::string name, int64_t fallback, double min_value, double max_value, std::string meaning,
                            ParamPhase phase);
@@ -58,6 +61,8 @@ struct ParamSpec {
 
   // Declares when the knob applies (see ParamCondition); returns *this for chaining on a factory.
   ParamSpec& only_when(std::string knob, std::vector<std::string> values);
+  // Sets keyed_at_default to false; returns *this.
+  ParamSpec& unkeyed_at_default();
 
   std::string type_name() const;
   std::string range_text() const;
@@ -108,6 +113,9 @@ class ParamDict {
  private:
   std::map<std::string, Entry> entries_;
 };
+
+// What a run key hashes of resolved knobs: every knob, except those unkeyed at their default that have it.
+nlohmann::json run_key_params(const ParamSet& params, const std::vector<ParamSpec>& specs);
 
 // The subset of a ParamSet whose specs have the given phase.
 ParamSet select_phase(const ParamSet& all, const std::vector<ParamSpec>& specs, ParamPhase phase);
