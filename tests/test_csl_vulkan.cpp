@@ -138,6 +138,23 @@ TEST(CslVulkan, ShadowRaysOnTheDeviceAreAnInputError) {
   EXPECT_NE(message.find("backend is cpu"), std::string::npos) << message;
 }
 
+// backend came after csl's runs were recorded: at its default (cpu, what they did) it stays out of the
+// run key, so they keep their keys (Keys.ShippedExperimentsKeepTheirRunKeys); vulkan enters it.
+TEST(CslVulkan, OnlyTheVulkanBackendEntersTheRunKey) {
+  const std::vector<ParamSpec>& specs = find_method("csl").info().params;
+  auto key_params = [&](const std::string& backend) {
+    ParamDict dict;
+    dict.set_assignment("backend=" + backend, "test");
+    return run_key_params(dict.resolve(specs, "csl"), specs);
+  };
+  EXPECT_FALSE(key_params("cpu").contains("backend"));
+  EXPECT_EQ(key_params("cpu"), run_key_params(ParamDict().resolve(specs, "csl"), specs));
+  EXPECT_EQ(key_params("vulkan").value("backend", ""), "vulkan");
+  // occlusion applies on the CPU only, so a vulkan run's key has none.
+  EXPECT_TRUE(key_params("cpu").contains("occlusion"));
+  EXPECT_FALSE(key_params("vulkan").contains("occlusion"));
+}
+
 // The portable path: causticbench dumps a csl frame (here the CPU backend's), causticbench-gpubench
 // replays it on the first Vulkan device, causticbench gpu-compare checks the two against the format's
 // tolerances; a corrupted replay output is caught.
