@@ -22,8 +22,9 @@ class CslReplay : public FrameReplay {
     size_t sources = 0;
     for (uint32_t light = 0; light < frame_.light_count(); ++light) sources += frame_.light_images[CslFrameData::kLightWords * light];
     std::ostringstream facts;
+    const double per_light = frame_.light_count() ? static_cast<double>(sources) / frame_.light_count() : 0.0;
     facts << "\"objects\": " << frame_.object_count() << ",\n\"spot_lights\": " << frame_.light_count()
-          << ",\n\"image_reads_per_ray\": " << (frame_.light_count() ? static_cast<double>(sources) / frame_.light_count() : 0.0)
+          << ",\n\"source_images_per_spot_light\": " << per_light
           << ",\n\"images\": " << frame_.image_count() << ",\n\"image_bytes\": " << 4 * frame_.texels.size()
           << ",\n\"intensity_correction\": " << frame_.intensity_correction << ",\n\"on_axis\": "
           << json_quoted(frame_.on_axis == 1 ? "epsilon" : "integrate");
