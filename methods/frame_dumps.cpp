@@ -5,6 +5,7 @@
 
 #include "methods/frame_dump.h"
 #include "methods/lpi/frame_replay.h"
+#include "methods/csl/frame_replay.h"
 #include "methods/pinhole/frame_replay.h"
 
 namespace causticbench {
@@ -14,6 +15,7 @@ const std::vector<FrameDumpFormat>& frame_dump_formats() {
   static const std::vector<FrameDumpFormat> formats = {
       pinhole_frame_dump_format(),
       lpi_frame_dump_format(),
+      csl_frame_dump_format(),
   };
   return formats;
 }

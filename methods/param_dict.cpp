@@ -12,20 +12,20 @@ namespace causticbench {
 ParamSpec ParamSpec::integer(std::string name, int64_t fallback, double min_value, double max_value,
                              std::string meaning, ParamPhase phase) {
   return ParamSpec{std::move(name), ParamType::integer, fallback, min_value, max_value, {}, std::move(meaning), phase,
-                   std::nullopt};
+                   std::nullopt, true};
 }
 ParamSpec ParamSpec::real(std::string name, double fallback, double min_value, double max_value, std::string meaning,
                           ParamPhase phase) {
   return ParamSpec{std::move(name), ParamType::real, fallback, min_value, max_value, {}, std::move(meaning), phase,
-                   std::nullopt};
+                   std::nullopt, true};
 }
 ParamSpec ParamSpec::boolean(std::string name, bool fallback, std::string meaning, ParamPhase phase) {
-  return ParamSpec{std::move(name), ParamType::boolean, fallback, 0, 1, {}, std::move(meaning), phase, std::nullopt};
+  return ParamSpec{std::move(name), ParamType::boolean, fallback, 0, 1, {}, std::move(meaning), phase, std::nullopt, true};
 }
 ParamSpec ParamSpec::choice(std::string name, std::string fallback, std::vector<std::string> choices,
                             std::string meaning, ParamPhase phase) {
   return ParamSpec{std::move(name), ParamType::choice, std::move(fallback), 0, 0, std::move(choices),
-                   std::move(meaning), phase, std::nullopt};
+                   std::move(meaning), phase, std::nullopt, true};
 }
 
 std::string phase_name(ParamPhase phase) {

@@ -48,7 +48,7 @@ struct ParamSpec {
   ParamPhase phase = ParamPhase::render;
   std::optional<ParamCondition> applies_when;  // none: always applies
   // False for a knob added after experiments shipped whose default changes nothing they measured: at its
-  // default it is left out of the run key (key_params), so those runs keep their keys and results.
+  // default it is left out of the run key (ParamSet::key_json), so those runs keep their keys and results.
   bool keyed_at_default = true;
 
   static ParamSpec integer(std::string name, int64_t fallback, double min_value, double max_value, std::string meaning,

@@ -96,6 +96,7 @@ void CslMethod::prepare(const PrepareContext& context, const ParamSet& build) {
   scene_ = &context.scene;
   frame_.clear();
   mesh_.reset();
+  forget_gpu_images();
   // The plan first (static directions or the facets of each dynamic set), then the work.
   Plan plan = make_plan(context, build, mesh_);
   objects_ = std::move(plan.objects);
@@ -185,6 +186,7 @@ void CslMethod::update_dynamic(const ObjectSets& sets, const Vec3& direction, co
 void CslMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
   frame_.assign(objects_.size(), ObjectFrame{});
   tracer_ = &frame.tracer;
+  forget_gpu_lights();
   interpolated_ = 0.0;
   for (size_t i = 0; i < objects_.size(); ++i) {
     const ObjectSets& sets = objects_[i];
@@ -217,11 +219,14 @@ void CslMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
 }
 
 Image CslMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
+  if (render.text("backend") == "vulkan") return render_vulkan(gbuffer, render);
+  note_cpu_render();
   Image result(gbuffer.width, gbuffer.height, 3);
   std::vector<double> evaluations(gbuffer.pixel_count() / 1024 + 1, 0.0);
   std::vector<EvaluationSettings> settings_of;  // per object (axis_epsilon is in its bounding radii)
   for (const ObjectSets& sets : objects_) settings_of.push_back(evaluation_settings(render, sets.bounds));
-  const bool shadow_rays = render.text("occlusion") == "shadow_rays";
+  // occlusion applies on the CPU backend only (the Vulkan kernel has no ray tracer).
+  const bool shadow_rays = render.has("occlusion") && render.text("occlusion") == "shadow_rays";
   parallel_blocks(gbuffer.pixel_count(), 1024, [&](size_t begin, size_t end, size_t) {
     double count = 0.0;
     for (size_t i = 0; i < objects_.size(); ++i) {
@@ -328,7 +333,7 @@ nlohmann::json CslMethod::record() const {
     object["sets"] = std::move(list);
     objects.push_back(std::move(object));
   }
-  return {{"objects", objects}};
+  return {{"objects", objects}, {"gpu_device", gpu_device()}};
 }
 
 }  // namespace causticbench

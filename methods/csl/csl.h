@@ -7,10 +7,12 @@
 
 #include <memory>
 #include <optional>
+#include <unordered_map>
 #include <vector>
 
 #include "methods/common/build_space.h"
 #include "methods/csl/dynamic_sets.h"
+#include "methods/csl/frame_data.h"
 #include "methods/csl/generate.h"
 #include "methods/csl/interpolation.h"
 #include "methods/method.h"
@@ -19,6 +21,8 @@ namespace causticbench {
 
 class CslMethod : public CausticMethod {
  public:
+  CslMethod();
+  ~CslMethod() override;
   static const MethodInfo& static_info();
   const MethodInfo& info() const override { return static_info(); }
   void check_scene(const Scene& scene) const override;
@@ -28,6 +32,10 @@ class CslMethod : public CausticMethod {
   size_t memory_bytes() const override;
   Counters counters() const override;
   nlohmann::json record() const override;
+  // The Vulkan backend (backend: vulkan, methods/csl/csl_gpu.cpp): the kernel time of the last render.
+  std::optional<double> gpu_render_milliseconds() const override;
+  void dump_frame(const GBuffer& gbuffer, const ParamSet& render, const Image& output,
+                  const std::string& folder) const override;
   // The build cache (methods/csl/csl_build.cpp): every object's static or dynamic sets.
   std::optional<nlohmann::json> build_dependencies(const PrepareContext& context, const ParamSet& build) const override;
   void save_build(const std::string& folder) const override;
@@ -71,6 +79,25 @@ class CslMethod : public CausticMethod {
   static void check_some_spot_light(const std::string& object, const std::vector<csl::SpotLightSet>& sets, const ParamSet& build);
   void update_dynamic(const ObjectSets& sets, const Vec3& direction, const ParamSet& frame_knobs, LightView& view) const;
 
+  // The Vulkan backend (methods/csl/csl_gpu.cpp). An image's index in a CslFrameData's image arrays.
+  using GpuImageIndex = std::unordered_map<const csl::IntensityImage*, uint32_t>;
+  struct GpuState;
+  Image render_vulkan(const GBuffer& gbuffer, const ParamSet& render);
+  // Appends every stored image of every object's sets (what any frame of this build may read).
+  void gpu_all_images(GpuImageIndex& index, CslFrameData& frame) const;
+  // This frame's spot lights in evaluation order, appending the images they read that are not yet in `index`.
+  void gpu_lights(GpuImageIndex& index, CslFrameData& frame) const;
+  // The receivers of `gbuffer`, the objects' maps and ranges of spot lights, the render knobs.
+  void gpu_receivers(const GBuffer& gbuffer, const ParamSet& render, CslFrameData& frame) const;
+  // After prepare() or load_build(): the uploaded images are another build's.
+  void forget_gpu_images();
+  // After update(): the uploaded spot lights are another frame's.
+  void forget_gpu_lights();
+  // A render on the CPU: gpu_render_milliseconds() has nothing to say about it.
+  void note_cpu_render();
+  // The Vulkan device of the last render, "" when it ran on the CPU.
+  std::string gpu_device() const;
+
   const Scene* scene_ = nullptr;
   const Tracer* tracer_ = nullptr;  // the frame's, from update(): the shadow rays' scene
   std::unique_ptr<lpi::SphericalMesh> mesh_;  // the light directions of the dynamic sets
@@ -79,6 +106,7 @@ class CslMethod : public CausticMethod {
   double rays_traced_ = 0.0;
   double evaluations_ = 0.0;  // spot light evaluations of the last render
   double interpolated_ = 0.0;  // spot lights interpolated for the last frame
+  std::unique_ptr<GpuState> gpu_;  // created by the first render with backend: vulkan
 };
 
 namespace csl {

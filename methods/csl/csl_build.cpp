@@ -59,6 +59,7 @@ void CslMethod::load_build(const PrepareContext& context, const ParamSet& build,
   scene_ = &context.scene;
   frame_.clear();
   mesh_.reset();
+  forget_gpu_images();
   Plan plan = make_plan(context, build, mesh_);
   objects_ = std::move(plan.objects);
   for (size_t i = 0; i < objects_.size(); ++i) {

@@ -89,11 +89,20 @@ const MethodInfo& CslMethod::static_info() {
                           "points whose footprint reaches the axis: the flux through that disk over its area (integrate), "
                           "or moved out to axis_epsilon from it (the paper's epsilon)",
                           ParamPhase::render),
+        // A render knob, unlike pinhole's build-phase backend: the spot lights (the costly build) and
+        // their interpolation do not depend on it, so both backends share one build and one update.
+        // Added after csl's runs were recorded, so cpu (what they did) is left out of their keys.
+        ParamSpec::choice("backend", "cpu", {"cpu", "vulkan"},
+                          "cpu (multithreaded) or vulkan (a compute shader evaluates the frame's spot lights in float; "
+                          "lavapipe without a GPU)",
+                          ParamPhase::render)
+            .unkeyed_at_default(),
         ParamSpec::choice("occlusion", "none", {"none", "shadow_rays"},
                           "none (the paper); shadow_rays: each contributing ray's light is kept only when the path from "
                           "the receiver back along it meets no other object before the caustic object (Embree, one ray "
-                          "per contributing spot light ray)",
-                          ParamPhase::render),
+                          "per contributing spot light ray; the cpu backend only)",
+                          ParamPhase::render)
+            .only_when("backend", {"cpu"}),
         ParamSpec::real("axis_epsilon", 1e-4, 1e-9, 1.0, "on_axis: epsilon: the distance, in bounding radii",
                         ParamPhase::render)
             .only_when("on_axis", {"epsilon"}),
@@ -121,6 +130,7 @@ const MethodInfo& CslMethod::static_info() {
         {"non_lambertian_receivers", "E_c is irradiance, whatever the receiver's BRDF; the spot lights know each ray's "
                                      "direction, so view-dependent shading could use it"},
     };
+    m.frame_dump = true;
     m.quick_knobs = {"rays_per_side=48", "image_size=128"};
     m.counters = {counter_quantity("spot_lights", "lights", "caustic spot lights over all objects and light directions"),
                   counter_quantity("caustic_rays", "rays", "caustic object rays that left the objects (all directions)"),

@@ -84,6 +84,11 @@ class IntensityImage {
   float texel(int i, int j, int channel) const;
   // The values as floats, whatever the precision: what the constructor takes back.
   std::vector<float> decoded() const;
+  // The tables flux_within() interpolates, per channel at radius k * max_radius() / radial_bins(),
+  // k = 0..radial_bins(): the flux within that radius and the ring integral there (the Vulkan backend's copy).
+  int radial_bins() const { return radial_bins_; }
+  const std::vector<double>& radial_flux() const { return radial_; }
+  const std::vector<double>& ring_integral() const { return ring_; }
 
  private:
   void build_radial_table();
