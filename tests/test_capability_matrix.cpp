@@ -167,7 +167,7 @@ TEST(CapabilityMatrixExperiment, RefusesDefectsWithFileLineAndKey) {
   ASSERT_NO_THROW(load_experiment(folder.write("good.yaml", text)));
   const std::vector<std::tuple<std::string, std::string, std::string>> defects = {
       {"{capability: point_light, with:", "{capability: point_lite, with:", "did you mean 'point_light'"},
-      {"without: occlusion_without}", "without: occlusion_with}", "a variant of the experiment"},
+      {"without: occlusion_without,", "without: occlusion_with,", "a variant of the experiment"},
       {"  select: {pinhole: interaction=reflect, lpi: light_subdivision=0}\n", "", "one run of"},
       {"lpi: [directional_light,", "lpi: [reflection, directional_light,", "a capability that `rows` maps"},
       {"      occlusion: [Occluded caustic light]\n", "      occlusion: [Occluded caustic light]\n      colour: [x]\n",
