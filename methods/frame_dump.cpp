@@ -1,6 +1,7 @@
 #include "methods/frame_dump.h"
 
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -34,6 +35,48 @@ std::vector<float> read_floats(const std::string& path) {
   stream.read(reinterpret_cast<char*>(values.data()), bytes);
   if (!stream) throw std::runtime_error(path + ": read failed");
   return values;
+}
+
+void write_words(const std::string& path, const std::vector<uint32_t>& words) {
+  write_dump_bytes(path, reinterpret_cast<const char*>(words.data()), words.size() * sizeof(uint32_t));
+}
+
+std::vector<uint32_t> read_words(const std::string& path) {
+  const std::vector<float> floats = read_floats(path);
+  std::vector<uint32_t> words(floats.size());
+  if (!words.empty()) std::memcpy(words.data(), floats.data(), words.size() * sizeof(uint32_t));
+  return words;
+}
+
+std::map<std::string, double> read_dump_fields(const std::string& path, const std::vector<std::string>& required) {
+  std::ifstream stream(path);
+  if (!stream) throw std::runtime_error(path + ": cannot open (not a --dump-frame folder, or another method's?)");
+  std::map<std::string, double> values;
+  std::string name;
+  double value;
+  while (stream >> name >> value) values[name] = value;
+  for (const std::string& field : required)
+    if (!values.count(field)) throw std::runtime_error(path + ": missing '" + field + "'");
+  return values;
+}
+
+FrameDumpInfo receiver_dump_info(uint32_t width, uint32_t height, const std::vector<float>& receiver_positions,
+                                 double evaluations_per_receiver) {
+  FrameDumpInfo info;
+  info.width = width;
+  info.height = height;
+  const size_t pixels = static_cast<size_t>(width) * height;
+  if (receiver_positions.size() < 4 * pixels)
+    throw std::runtime_error("receiver_positions.bin: " + std::to_string(receiver_positions.size() / 4) +
+                             " pixels, the frame has " + std::to_string(pixels));
+  info.receivers.resize(pixels);
+  size_t receiver_count = 0;
+  for (size_t pixel = 0; pixel < pixels; ++pixel) {
+    info.receivers[pixel] = receiver_positions[4 * pixel + 3] != 0.0f;
+    receiver_count += info.receivers[pixel];
+  }
+  info.evaluations = static_cast<double>(receiver_count) * evaluations_per_receiver;
+  return info;
 }
 
 void write_dump_method(const std::string& folder, const std::string& method) {

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,6 +31,14 @@ std::string read_dump_method(const std::string& folder);
 void write_floats(const std::string& path, const std::vector<float>& values);
 std::vector<float> read_floats(const std::string& path);
 void write_dump_bytes(const std::string& path, const char* data, size_t bytes);
+// Arrays of 32-bit words that are not all floats (indices, packed texels): the same files, the bits
+// copied, never converted.
+void write_words(const std::string& path, const std::vector<uint32_t>& words);
+std::vector<uint32_t> read_words(const std::string& path);
+// A frame's scalars: a text file of `name value` lines (written last by each format, so its presence
+// marks a complete frame). Throws std::runtime_error naming the file when it is missing or lacks one
+// of `required`.
+std::map<std::string, double> read_dump_fields(const std::string& path, const std::vector<std::string>& required);
 
 // `text` as a JSON string literal, quotes included (for FrameReplay::facts_json and gpu_timings.json).
 std::string json_quoted(const std::string& text);
@@ -40,6 +49,11 @@ struct FrameDumpInfo {
   std::vector<uint8_t> receivers;  // 1 per pixel (row-major): 1 where the method computed a caustic
   double evaluations = 0.0;        // the frame's work in the format's evaluation_unit, for a rate
 };
+
+// The info of a frame whose receivers are the pixels with receiver_positions' w (RGBA per pixel) non-zero,
+// each worth `evaluations_per_receiver` of the format's evaluation_unit.
+FrameDumpInfo receiver_dump_info(uint32_t width, uint32_t height, const std::vector<float>& receiver_positions,
+                                 double evaluations_per_receiver);
 
 // A dumped frame uploaded to a device, ready to be rendered any number of times.
 class FrameReplay {

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "core/errors.h"
+#include "methods/common/gpu_arrays.h"
 #include "methods/csl/csl.h"
 #include "methods/csl/vulkan_csl.h"
 
@@ -137,16 +138,9 @@ void CslMethod::gpu_lights(GpuImageIndex& index, CslFrameData& frame) const {
 void CslMethod::gpu_receivers(const GBuffer& gbuffer, const ParamSet& render, CslFrameData& frame) const {
   frame.width = static_cast<uint32_t>(gbuffer.width);
   frame.height = static_cast<uint32_t>(gbuffer.height);
-  frame.receiver_positions.assign(4 * gbuffer.pixel_count(), 0.0f);
-  frame.receiver_normals.assign(4 * gbuffer.pixel_count(), 0.0f);
-  for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
-    if (!gbuffer.receiver[pixel]) continue;
-    const Vec3 &p = gbuffer.position[pixel], &n = gbuffer.normal[pixel];
-    float* position = &frame.receiver_positions[4 * pixel];
-    float* normal = &frame.receiver_normals[4 * pixel];
-    position[0] = p.x, position[1] = p.y, position[2] = p.z, position[3] = 1.0f;
-    normal[0] = n.x, normal[1] = n.y, normal[2] = n.z, normal[3] = gbuffer.footprint[pixel];
-  }
+  fill_receiver_arrays(gbuffer, frame.receiver_positions, frame.receiver_normals);
+  // The normal's w: the pixel footprint's side, for the on-axis epsilon.
+  for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) frame.receiver_normals[4 * pixel + 3] = gbuffer.footprint[pixel];
   frame.objects.clear();
   for (size_t i = 0; i < objects_.size(); ++i) {
     const ObjectFrame& view = frame_[i];
@@ -203,12 +197,8 @@ Image CslMethod::render_vulkan(const GBuffer& gbuffer, const ParamSet& render) {
     gpu.lights_uploaded = true;
   }
   gpu_receivers(gbuffer, render, frame);
-  const std::vector<float> rgba = gpu.vulkan->render(frame, gpu.kernel_ms);
+  Image result = image_of_rgba(gbuffer.width, gbuffer.height, gpu.vulkan->render(frame, gpu.kernel_ms));
   gpu.last_render = true;
-  Image result(gbuffer.width, gbuffer.height, 3);
-  for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
-    result.set_rgb(pixel, Color(rgba[4 * pixel], rgba[4 * pixel + 1], rgba[4 * pixel + 2]));
-  }
   // As the CPU counts them: every spot light at every receiver.
   evaluations_ = static_cast<double>(gbuffer.receiver_count()) * frame.light_count();
   return result;
@@ -233,11 +223,7 @@ void CslMethod::dump_frame(const GBuffer& gbuffer, const ParamSet& render, const
   // First, so that a folder that held another method's dump names csl before csl's files land.
   write_dump_method(folder, "csl");
   write_csl_frame_data(frame, folder);
-  std::vector<float> rgba(gbuffer.pixel_count() * 4, 0.0f);
-  for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
-    for (int c = 0; c < 3; ++c) rgba[4 * pixel + c] = output.at(pixel, c);
-  }
-  write_floats(folder + "/" + render.text("backend") + "_irradiance.bin", rgba);
+  write_dump_irradiance(folder, render.text("backend"), output);
 }
 
 }  // namespace causticbench

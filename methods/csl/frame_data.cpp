@@ -9,22 +9,6 @@ namespace causticbench {
 
 namespace {
 
-void write_words(const std::string& path, const std::vector<uint32_t>& words) {
-  write_dump_bytes(path, reinterpret_cast<const char*>(words.data()), words.size() * sizeof(uint32_t));
-}
-
-std::vector<uint32_t> read_words(const std::string& path) {
-  std::ifstream stream(path, std::ios::binary | std::ios::ate);
-  if (!stream) throw std::runtime_error(path + ": cannot open");
-  const std::streamsize bytes = stream.tellg();
-  if (bytes % static_cast<std::streamsize>(sizeof(uint32_t)) != 0) throw std::runtime_error(path + ": not a uint32 array");
-  std::vector<uint32_t> words(static_cast<size_t>(bytes) / sizeof(uint32_t));
-  stream.seekg(0);
-  stream.read(reinterpret_cast<char*>(words.data()), bytes);
-  if (!stream) throw std::runtime_error(path + ": read failed");
-  return words;
-}
-
 void require(bool condition, const std::string& where, const std::string& what) {
   if (!condition) throw std::runtime_error(where + ": " + what);
 }
@@ -88,15 +72,8 @@ void write_csl_frame_data(const CslFrameData& frame, const std::string& folder) 
 
 CslFrameData read_csl_frame_data(const std::string& folder) {
   CslFrameData frame;
-  std::ifstream stream(folder + "/csl_frame.txt");
-  if (!stream) throw std::runtime_error(folder + "/csl_frame.txt: cannot open (not a csl --dump-frame folder?)");
-  std::map<std::string, double> values;
-  std::string name;
-  double value;
-  while (stream >> name >> value) values[name] = value;
-  for (const char* required : {"width", "height", "intensity_correction", "on_axis"}) {
-    if (!values.count(required)) throw std::runtime_error(folder + "/csl_frame.txt: missing '" + required + "'");
-  }
+  std::map<std::string, double> values =
+      read_dump_fields(folder + "/csl_frame.txt", {"width", "height", "intensity_correction", "on_axis"});
   frame.width = static_cast<uint32_t>(values["width"]);
   frame.height = static_cast<uint32_t>(values["height"]);
   frame.intensity_correction = static_cast<uint32_t>(values["intensity_correction"]);

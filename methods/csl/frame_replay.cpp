@@ -38,18 +38,8 @@ class CslReplay : public FrameReplay {
 
 FrameDumpInfo read_csl_info(const std::string& folder) {
   const CslFrameData frame = read_csl_frame_data(folder);
-  FrameDumpInfo info;
-  info.width = frame.width;
-  info.height = frame.height;
-  info.receivers.resize(frame.pixel_count());
-  size_t receiver_count = 0;
-  for (uint32_t pixel = 0; pixel < frame.pixel_count(); ++pixel) {
-    info.receivers[pixel] = frame.is_receiver(pixel);
-    receiver_count += info.receivers[pixel];
-  }
   // The shader evaluates every spot light of the frame at every receiver (csl_evaluations' unit).
-  info.evaluations = static_cast<double>(receiver_count) * frame.light_count();
-  return info;
+  return receiver_dump_info(frame.width, frame.height, frame.receiver_positions, frame.light_count());
 }
 
 std::unique_ptr<FrameReplay> replay_csl(gpu::Context& context, const std::string& folder) {

@@ -8,22 +8,6 @@
 
 namespace causticbench {
 
-namespace {
-
-void write_words(const std::string& path, const std::vector<uint32_t>& words) {
-  write_dump_bytes(path, reinterpret_cast<const char*>(words.data()), words.size() * sizeof(uint32_t));
-}
-
-// The words' bits, whatever they mean: read as float32 and copied, never converted.
-std::vector<uint32_t> read_words(const std::string& path) {
-  const std::vector<float> floats = read_floats(path);
-  std::vector<uint32_t> words(floats.size());
-  if (!words.empty()) std::memcpy(words.data(), floats.data(), words.size() * sizeof(uint32_t));
-  return words;
-}
-
-}  // namespace
-
 void write_lpi_frame_data(const LpiFrameData& frame, const std::string& folder) {
   write_floats(folder + "/receiver_positions.bin", frame.receiver_positions);
   write_floats(folder + "/receiver_normals.bin", frame.receiver_normals);
@@ -41,15 +25,8 @@ void write_lpi_frame_data(const LpiFrameData& frame, const std::string& folder) 
 
 LpiFrameData read_lpi_frame_data(const std::string& folder) {
   LpiFrameData frame;
-  std::ifstream stream(folder + "/frame.txt");
-  if (!stream) throw std::runtime_error(folder + "/frame.txt: cannot open (not a --dump-frame folder?)");
-  std::map<std::string, double> values;
-  std::string name;
-  double value;
-  while (stream >> name >> value) values[name] = value;
-  for (const char* required : {"width", "height", "storage", "channels", "precision", "outside"}) {
-    if (!values.count(required)) throw std::runtime_error(folder + "/frame.txt: missing '" + required + "'");
-  }
+  std::map<std::string, double> values =
+      read_dump_fields(folder + "/frame.txt", {"width", "height", "storage", "channels", "precision", "outside"});
   frame.width = static_cast<uint32_t>(values["width"]);
   frame.height = static_cast<uint32_t>(values["height"]);
   frame.storage = static_cast<uint32_t>(values["storage"]);

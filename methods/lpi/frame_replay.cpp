@@ -45,20 +45,10 @@ class LpiReplay : public FrameReplay {
 };
 
 FrameDumpInfo read_lpi_info(const std::string& folder) {
-  LpiFrameData frame = read_lpi_frame_data(folder);
-  FrameDumpInfo info;
-  info.width = frame.width;
-  info.height = frame.height;
-  info.receivers.resize(frame.pixel_count());
-  size_t receiver_count = 0;
-  for (uint32_t pixel = 0; pixel < frame.pixel_count(); ++pixel) {
-    info.receivers[pixel] = frame.is_receiver(pixel);
-    receiver_count += info.receivers[pixel];
-  }
+  const LpiFrameData frame = read_lpi_frame_data(folder);
   // Each receiver looks up every object's caustic (masked pixels return at once): the rate the issue's
   // target counts (receiver points per second), whatever the blend and storage.
-  info.evaluations = static_cast<double>(receiver_count);
-  return info;
+  return receiver_dump_info(frame.width, frame.height, frame.receiver_positions, 1.0);
 }
 
 std::unique_ptr<FrameReplay> replay_lpi(gpu::Context& context, const std::string& folder) {

@@ -1,3 +1,4 @@
+#include "methods/common/gpu_arrays.h"
 #include "methods/lpi/gpu_frame.h"
 
 #include <cstring>
@@ -136,16 +137,7 @@ void fill_frame_lights(const std::vector<ObjectFrame>& views, Outside outside, L
 void fill_receivers(const GBuffer& gbuffer, LpiFrameData& frame) {
   frame.width = static_cast<uint32_t>(gbuffer.width);
   frame.height = static_cast<uint32_t>(gbuffer.height);
-  frame.receiver_positions.resize(gbuffer.pixel_count() * 4);
-  frame.receiver_normals.resize(gbuffer.pixel_count() * 4);
-  for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
-    const Vec3& p = gbuffer.position[pixel];
-    const Vec3& n = gbuffer.normal[pixel];
-    float* position = &frame.receiver_positions[4 * pixel];
-    float* normal = &frame.receiver_normals[4 * pixel];
-    position[0] = p.x, position[1] = p.y, position[2] = p.z, position[3] = gbuffer.receiver[pixel] ? 1.0f : 0.0f;
-    normal[0] = n.x, normal[1] = n.y, normal[2] = n.z, normal[3] = 0.0f;
-  }
+  fill_receiver_arrays(gbuffer, frame.receiver_positions, frame.receiver_normals);
 }
 
 }  // namespace causticbench::lpi

@@ -1,3 +1,4 @@
+#include "methods/common/gpu_arrays.h"
 #include "methods/lpi/lpi.h"
 
 #include <chrono>
@@ -319,11 +320,7 @@ Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
     fill_frame_lights(frame_, mode, gpu_frame_);
     fill_receivers(gbuffer, gpu_frame_);
     vulkan_->upload_frame(gpu_frame_);
-    const std::vector<float> rgba = vulkan_->render(gpu_frame_, gpu_render_ms_);
-    for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
-      result.set_rgb(pixel, Color(rgba[4 * pixel], rgba[4 * pixel + 1], rgba[4 * pixel + 2]));
-    }
-    return result;
+    return image_of_rgba(gbuffer.width, gbuffer.height, vulkan_->render(gpu_frame_, gpu_render_ms_));
   }
   parallel_blocks(gbuffer.pixel_count(), 1024, [&](size_t begin, size_t end, size_t) {
     for (size_t i = 0; i < objects_.size(); ++i) {
@@ -432,11 +429,7 @@ void LpiMethod::dump_frame(const GBuffer& gbuffer, const ParamSet& render, const
   // First, so that a folder that held another method's dump names lpi before lpi's files land.
   write_dump_method(folder, "lpi");
   write_lpi_frame_data(frame, folder);
-  std::vector<float> rgba(gbuffer.pixel_count() * 4, 0.0f);
-  for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
-    for (int c = 0; c < 3; ++c) rgba[4 * pixel + c] = output.at(pixel, c);
-  }
-  write_floats(folder + "/" + backend_ + "_irradiance.bin", rgba);
+  write_dump_irradiance(folder, backend_, output);
 }
 
 }  // namespace causticbench

@@ -28,16 +28,9 @@ void write_frame_data(const PinholeFrameData& frame, const std::string& folder) 
 
 PinholeFrameData read_frame_data(const std::string& folder) {
   PinholeFrameData frame;
-  std::ifstream stream(folder + "/frame.txt");
-  if (!stream) throw std::runtime_error(folder + "/frame.txt: cannot open (not a --dump-frame folder?)");
-  std::map<std::string, double> values;
-  std::string name;
-  double value;
-  while (stream >> name >> value) values[name] = value;
-  for (const char* required : {"width", "height", "resolution", "epsilon", "area", "attenuation", "fresnel", "refraction",
-                               "filtering", "footprint_radius"}) {
-    if (!values.count(required)) throw std::runtime_error(folder + "/frame.txt: missing '" + required + "'");
-  }
+  std::map<std::string, double> values =
+      read_dump_fields(folder + "/frame.txt", {"width", "height", "resolution", "epsilon", "area", "attenuation",
+                                               "fresnel", "refraction", "filtering", "footprint_radius"});
   frame.width = static_cast<uint32_t>(values["width"]);
   frame.height = static_cast<uint32_t>(values["height"]);
   frame.resolution = static_cast<int32_t>(values["resolution"]);

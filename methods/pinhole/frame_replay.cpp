@@ -42,19 +42,9 @@ class PinholeReplay : public FrameReplay {
 };
 
 FrameDumpInfo read_pinhole_info(const std::string& folder) {
-  PinholeFrameData frame = read_frame_data(folder);
-  FrameDumpInfo info;
-  info.width = frame.width;
-  info.height = frame.height;
-  info.receivers.resize(frame.pixel_count());
-  size_t receiver_count = 0;
-  for (uint32_t pixel = 0; pixel < frame.pixel_count(); ++pixel) {
-    info.receivers[pixel] = frame.is_receiver(pixel);
-    receiver_count += info.receivers[pixel];
-  }
+  const PinholeFrameData frame = read_frame_data(folder);
   // The shader evaluates every sample at every receiver (masked pixels return at once).
-  info.evaluations = static_cast<double>(receiver_count) * frame.sample_count();
-  return info;
+  return receiver_dump_info(frame.width, frame.height, frame.receiver_positions, frame.sample_count());
 }
 
 std::unique_ptr<FrameReplay> replay_pinhole(gpu::Context& context, const std::string& folder) {

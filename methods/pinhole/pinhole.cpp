@@ -1,3 +1,4 @@
+#include "methods/common/gpu_arrays.h"
 #include "methods/pinhole/pinhole.h"
 
 #include <fmt/format.h>
@@ -252,11 +253,7 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   evaluations_ = static_cast<double>(gbuffer.receiver_count()) * static_cast<double>(samples.size());
   if (vulkan_) {
     fill_receivers(gbuffer, params, frame_data_);
-    std::vector<float> rgba = vulkan_->render(frame_data_, gpu_render_ms_);
-    for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
-      result.set_rgb(pixel, Color(rgba[4 * pixel], rgba[4 * pixel + 1], rgba[4 * pixel + 2]));
-    }
-    return result;
+    return image_of_rgba(gbuffer.width, gbuffer.height, vulkan_->render(frame_data_, gpu_render_ms_));
   }
   const float epsilon = epsilon_of(params);
   const bool attenuation = params.boolean("attenuation");
@@ -482,17 +479,7 @@ Counters PinholeMethod::counters() const {
 void PinholeMethod::fill_receivers(const GBuffer& gbuffer, const ParamSet& params, PinholeFrameData& frame) const {
   frame.width = static_cast<uint32_t>(gbuffer.width);
   frame.height = static_cast<uint32_t>(gbuffer.height);
-  frame.receiver_positions.resize(gbuffer.pixel_count() * 4);
-  frame.receiver_normals.resize(gbuffer.pixel_count() * 4);
-  for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
-    const Vec3& p = gbuffer.position[pixel];
-    const Vec3& n = gbuffer.normal[pixel];
-    float receiver = gbuffer.receiver[pixel] ? 1.0f : 0.0f;
-    float* position = &frame.receiver_positions[4 * pixel];
-    float* normal = &frame.receiver_normals[4 * pixel];
-    position[0] = p.x, position[1] = p.y, position[2] = p.z, position[3] = receiver;
-    normal[0] = n.x, normal[1] = n.y, normal[2] = n.z, normal[3] = 0.0f;
-  }
+  fill_receiver_arrays(gbuffer, frame.receiver_positions, frame.receiver_normals);
   frame.epsilon = epsilon_of(params);
   frame.area = samples_.samples.empty() ? 0.0f : samples_.samples.front().area;
   frame.attenuation = params.boolean("attenuation") ? 1 : 0;
@@ -509,11 +496,7 @@ void PinholeMethod::dump_frame(const GBuffer& gbuffer, const ParamSet& params, c
   // First, so that a folder that held another method's dump names pinhole before pinhole's files land.
   write_dump_method(folder, "pinhole");
   write_frame_data(frame, folder);
-  std::vector<float> rgba(gbuffer.pixel_count() * 4, 0.0f);
-  for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
-    for (int c = 0; c < 3; ++c) rgba[4 * pixel + c] = output.at(pixel, c);
-  }
-  write_floats(folder + "/" + build_.text("backend") + "_irradiance.bin", rgba);
+  write_dump_irradiance(folder, build_.text("backend"), output);
 }
 
 nlohmann::json PinholeMethod::record() const {
