@@ -29,10 +29,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 std::string tiny_copy(const std::string& text) {
-  std::string tiny = testing::replace_lines(
-      text, {{"\noverrides: [^\n]*", "\noverrides: {resolution: [16, 16]}"},
-             {"\nreference: [^\n]*", "\nreference: {photons_per_pass: 100000, max_passes: 2, target_noise_floor: 0}"},
-             {"\nrepetitions: [^\n]*", "\nrepetitions: 1"}});
+  std::string tiny = testing::tiny_experiment(text, 16);
   tiny = std::regex_replace(tiny, std::regex("rays_per_side: 256"), "rays_per_side: 64");
   return std::regex_replace(tiny, std::regex("photons_per_sample: 200000"), "photons_per_sample: 20000");
 }

@@ -25,11 +25,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 std::string tiny_copy(const std::string& text) {
-  // A key's one-line value or its block of indented lines.
-  std::string tiny = testing::replace_lines(
-      text, {{"\noverrides:[^\n]*(\n  [^\n]*)*", "\noverrides: {resolution: [20, 20]}"},
-             {"\nreference:[^\n]*(\n  [^\n]*)*", "\nreference: {photons_per_pass: 100000, max_passes: 2, target_noise_floor: 0}"},
-             {"\nrepetitions: [^\n]*", "\nrepetitions: 1"}});
+  std::string tiny = testing::tiny_experiment(text, 20);
   tiny = std::regex_replace(tiny, std::regex("\nframes: [^\n]*"), "\nframes: {first: 0, count: 2}");
   tiny = std::regex_replace(tiny, std::regex("photons_per_sample: [0-9]+"), "photons_per_sample: 5000");
   return std::regex_replace(tiny, std::regex("photons: [0-9]+"), "photons: 5000");

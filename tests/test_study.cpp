@@ -44,10 +44,7 @@ std::vector<fs::path> study_files() {
 std::string tiny_copy(const std::string& text) {
   std::string tiny = std::regex_replace(text, std::regex("\nscene: \\.\\./scenes/"),
                                         "\nscene: " + std::string(CAUSTICBENCH_SCENES) + "/");
-  tiny = testing::replace_lines(
-      tiny, {{"\noverrides: [^\n]*", "\noverrides: {resolution: [24, 24]}"},
-             {"\nreference: [^\n]*", "\nreference: {photons_per_pass: 100000, max_passes: 2, target_noise_floor: 0}"},
-             {"\nrepetitions: [^\n]*", "\nrepetitions: 1"}});
+  tiny = testing::tiny_experiment(tiny, 24);
   // An animated study: its first three frames, enough for temporal flicker.
   return std::regex_replace(tiny, std::regex("\nframes: [^\n]*"), "\nframes: {first: 0, count: 3}");
 }

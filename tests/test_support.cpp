@@ -111,6 +111,14 @@ std::string replace_once(std::string text, const std::string& from, const std::s
   return text.replace(at, from.size(), to);
 }
 
+std::string tiny_experiment(const std::string& text, int resolution) {
+  const std::string size = std::to_string(resolution);
+  return replace_lines(
+      text, {{"\noverrides:[^\n]*(\n  [^\n]*)*", "\noverrides: {resolution: [" + size + ", " + size + "]}"},
+             {"\nreference:[^\n]*(\n  [^\n]*)*", "\nreference: {photons_per_pass: 100000, max_passes: 2, target_noise_floor: 0}"},
+             {"\nrepetitions: [^\n]*", "\nrepetitions: 1"}});
+}
+
 std::string replace_lines(std::string text, const std::vector<std::pair<std::string, std::string>>& lines) {
   for (const auto& [pattern, replacement] : lines) {
     const std::regex expression(pattern);

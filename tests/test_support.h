@@ -37,6 +37,11 @@ std::string input_error_message(const std::function<void()>& action);
 // replaced; a test failure when a pattern matches nothing. How the study tests make tiny copies.
 std::string replace_lines(std::string text, const std::vector<std::pair<std::string, std::string>>& lines);
 
+// An experiment's text at `resolution` squared, with a two-pass reference of 100,000 photons and one
+// repetition (its `overrides`, `reference` and `repetitions`, each a one-line value or a block of
+// indented lines, replaced): what every tiny copy of a shipped experiment starts from.
+std::string tiny_experiment(const std::string& text, int resolution);
+
 // The shipped experiment files (configs/experiments/*.yaml) whose names start with `prefix`, sorted.
 std::vector<std::filesystem::path> shipped_experiments(const std::string& prefix);
 
