@@ -1,4 +1,3 @@
-#include "methods/common/gpu_arrays.h"
 #include "methods/lpi/gpu_frame.h"
 
 #include <cstring>
@@ -6,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "methods/common/gpu_arrays.h"
 
 namespace causticbench::lpi {
 

@@ -1,4 +1,3 @@
-#include "methods/common/gpu_arrays.h"
 #include "methods/lpi/lpi.h"
 
 #include <chrono>
@@ -8,6 +7,7 @@
 #include "core/errors.h"
 #include "core/parallel.h"
 #include "core/progress.h"
+#include "methods/common/gpu_arrays.h"
 #include "methods/lpi/environment.h"
 #include "methods/lpi/gpu_frame.h"
 #include "methods/lpi/lookup.h"
@@ -312,8 +312,10 @@ Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
   // Counted from the frame's plan, not in the per-pixel loop: each receiver point reads each light's
   // samples (one coefficient stencil for storage: sh) of every object.
   size_t reads_per_point = 0;
-  for (const lpi::ObjectFrame& view : frame_)
-    for (const lpi::LightView& light : view.lights) reads_per_point += light.harmonics.empty() ? light.reads.count : 1;
+  for (size_t i = 0; i < frame_.size(); ++i) {
+    for (const lpi::LightView& light : frame_[i].lights) reads_per_point += light.harmonics.empty() ? light.reads.count : 1;
+    if (environment_[i].active) ++reads_per_point;  // the combined volume
+  }
   volume_reads_ = static_cast<double>(gbuffer.receiver_count()) * static_cast<double>(reads_per_point);
   const Outside mode = outside_mode(render);
   if (vulkan_) {
@@ -322,32 +324,26 @@ Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
     vulkan_->upload_frame(gpu_frame_);
     return image_of_rgba(gbuffer.width, gbuffer.height, vulkan_->render(gpu_frame_, gpu_render_ms_));
   }
+  // The environment lights: one read of the combined volume (environment_), whose weights carry their colour.
+  LightView environment_light;
+  environment_light.irradiance = Color(1.0f);
+  environment_light.reads.count = 1;
+  environment_light.reads.reads[0] = SampleRead{0, 1.0f, false, glm::mat3(1.0f)};
   parallel_blocks(gbuffer.pixel_count(), 1024, [&](size_t begin, size_t end, size_t) {
     for (size_t i = 0; i < objects_.size(); ++i) {
-      const ObjectVolumes& object = objects_[i];
-      const ObjectView view{object.values, frame_[i].map, frame_[i].lights.data(), frame_[i].lights.size(), mode};
+      const VolumeLayout& layout = *objects_[i].layout;
       // The concrete layout, so that its stencil inlines into the per-pixel loop.
-      if (const auto* grid = dynamic_cast<const GridLayout*>(object.layout.get())) {
-        add_object_caustic(*grid, view, gbuffer, begin, end, result);
-      } else if (const auto* tree = dynamic_cast<const MultiresLayout*>(object.layout.get())) {
-        add_object_caustic(*tree, view, gbuffer, begin, end, result);
-      } else {
-        add_object_caustic(static_cast<const ShellLayout&>(*object.layout), view, gbuffer, begin, end, result);
-      }
-      // The environment lights: one read of the combined volume, whose weights carry their colour.
-      if (!environment_[i].active) continue;
-      LightView light;
-      light.irradiance = Color(1.0f);
-      light.reads.count = 1;
-      light.reads.reads[0] = SampleRead{0, 1.0f, false, glm::mat3(1.0f)};
-      const ObjectView lit{environment_[i].values, frame_[i].map, &light, 1, mode};
-      if (const auto* grid = dynamic_cast<const GridLayout*>(object.layout.get())) {
-        add_object_caustic(*grid, lit, gbuffer, begin, end, result);
-      } else if (const auto* tree = dynamic_cast<const MultiresLayout*>(object.layout.get())) {
-        add_object_caustic(*tree, lit, gbuffer, begin, end, result);
-      } else {
-        add_object_caustic(static_cast<const ShellLayout&>(*object.layout), lit, gbuffer, begin, end, result);
-      }
+      auto add = [&](const ObjectView& view) {
+        if (const auto* grid = dynamic_cast<const GridLayout*>(&layout)) {
+          add_object_caustic(*grid, view, gbuffer, begin, end, result);
+        } else if (const auto* tree = dynamic_cast<const MultiresLayout*>(&layout)) {
+          add_object_caustic(*tree, view, gbuffer, begin, end, result);
+        } else {
+          add_object_caustic(static_cast<const ShellLayout&>(layout), view, gbuffer, begin, end, result);
+        }
+      };
+      add(ObjectView{objects_[i].values, frame_[i].map, frame_[i].lights.data(), frame_[i].lights.size(), mode});
+      if (environment_[i].active) add(ObjectView{environment_[i].values, frame_[i].map, &environment_light, 1, mode});
     }
   });
   return result;

@@ -1,4 +1,3 @@
-#include "methods/common/gpu_arrays.h"
 #include "methods/pinhole/pinhole.h"
 
 #include <fmt/format.h>
@@ -6,6 +5,7 @@
 #include "core/optics.h"
 #include "core/parallel.h"
 #include "gpu/cube_filter_check.h"
+#include "methods/common/gpu_arrays.h"
 #include "methods/pinhole/cube_filter.h"
 #include "methods/pinhole/reflection_lanes.h"
 #include "methods/pinhole/texel_fetch.h"
