@@ -328,6 +328,8 @@ Experiment load_experiment(const std::string& path) {
   std::optional<ConfigNode> base_overrides = root.optional_child("overrides");
   if (base_overrides) base.overrides = read_overrides(*base_overrides, base.scene);
   experiment.variants = read_variants(root, base, base_overrides, path);
+  std::vector<std::string> variant_names;
+  for (const SceneVariant& variant : experiment.variants) variant_names.push_back(variant.name);
   experiment.frames = read_frames(root, experiment.variants.front().scene);
   // A variant with its own scene may have fewer frames than the first variant that `frames` was read
   // against.
@@ -434,8 +436,7 @@ Experiment load_experiment(const std::string& path) {
     // whose variants are different objects), every variant without it.
     std::vector<bool> on_variant(experiment.variants.size(), true);
     if (std::optional<ConfigNode> node = entry.optional_child("variants")) {
-      std::vector<std::string> names;
-      for (const SceneVariant& variant : experiment.variants) names.push_back(variant.name);
+      const std::vector<std::string>& names = variant_names;
       if (!node->is_sequence() || node->size() == 0) node->fail_here("a non-empty list of variant names", node->describe_value());
       on_variant.assign(experiment.variants.size(), false);
       for (size_t i = 0; i < node->size(); ++i) {
@@ -518,7 +519,7 @@ Experiment load_experiment(const std::string& path) {
       }
     }
   }
-  experiment.report = read_report_settings(root, experiment.metrics, experiment.primary_metric);
+  experiment.report = read_report_settings(root, experiment.metrics, experiment.primary_metric, variant_names);
   if (std::optional<ConfigNode> matrix = root.optional_child("capability_matrix"))
     experiment.report.capability_matrix = read_capability_matrix(*matrix, experiment);
   root.finish();

@@ -54,7 +54,7 @@ std::vector<double> read_increasing(const ConfigNode& root, const std::string& k
   return values;
 }
 
-nlohmann::json read_paper(const ConfigNode& node) {
+nlohmann::json read_paper(const ConfigNode& node, const std::vector<std::string>& variants) {
   nlohmann::json paper = nlohmann::json::object();
   paper["title"] = node.string("title");
   paper["columns"] = nlohmann::json::array();
@@ -81,10 +81,15 @@ nlohmann::json read_paper(const ConfigNode& node) {
     out["match"] = nlohmann::json::object();
     if (std::optional<ConfigNode> match = row.optional_child("match")) {
       // Resolved like knobs, so that a typo is caught and values compare by type (100 == 1e2).
-      // `variant: NAME` picks the runs of one scene variant (a row per object of a table); the report
+      // `variant: NAME` (one of the experiment's variants) picks the runs of one scene variant (a row per object of a table); the report
       // matches it by name. The other keys are knobs.
       std::optional<std::string> variant;
-      if (match->has("variant")) variant = match->child("variant").as_string();
+      if (match->has("variant")) {
+        variant = match->child("variant").as_string();
+        if (std::find(variants.begin(), variants.end(), *variant) == variants.end())
+          match->fail("variant", "one of the experiment's variants (" + join(variants, ", ") + ")",
+                      "'" + *variant + "'" + did_you_mean(*variant, variants));
+      }
       ParamDict dict;
       for (const std::string& key : match->keys())
         if (key != "variant") dict.set(key, match->child(key).as_string(), match->child(key).location());
@@ -176,9 +181,9 @@ nlohmann::json ReportSettings::tradeoffs_json() const {
 }
 
 ReportSettings read_report_settings(const ConfigNode& root, const std::vector<std::string>& metrics,
-                                    const std::string& primary_metric) {
+                                    const std::string& primary_metric, const std::vector<std::string>& variants) {
   ReportSettings settings;
-  if (std::optional<ConfigNode> paper = root.optional_child("paper")) settings.paper = read_paper(*paper);
+  if (std::optional<ConfigNode> paper = root.optional_child("paper")) settings.paper = read_paper(*paper, variants);
   if (std::optional<ConfigNode> claims = root.optional_child("claims")) settings.claims = read_claims(*claims, metrics);
   settings.tradeoffs = read_tradeoffs(root, metrics, primary_metric);
   settings.budgets_ms = read_increasing(root, "budgets_ms", kDefaultBudgetsMs, 1e9);

@@ -40,8 +40,9 @@ struct ReportSettings {
 
 // Reads paper, claims, tradeoffs, budgets_ms, error_targets and total_cost_frames of an experiment's root
 // map. A metric a claim or trade-off names must be one the experiment measures (`metrics`); any other
-// quantity must be registered: unknown names fail with the closest known one.
+// quantity must be registered: unknown names fail with the closest known one. A paper row's
+// `match: {variant: NAME}` must name one of `variants`.
 ReportSettings read_report_settings(const ConfigNode& root, const std::vector<std::string>& metrics,
-                                    const std::string& primary_metric);
+                                    const std::string& primary_metric, const std::vector<std::string>& variants);
 
 }  // namespace causticbench

@@ -226,6 +226,12 @@ TEST(Experiment, MethodEntryRunsOnTheVariantsItNames) {
                           "    - {method: photon_map, match: {variant: large, photons: 1000}, values: {frame_ms: 3}}\n"));
   EXPECT_EQ(paper.report.paper.at("rows").at(0).at("match").at("variant"), "large");
   EXPECT_EQ(paper.report.paper.at("rows").at(0).at("match").at("photons"), 1000);
+  // ... and a name that is no variant is refused where it stands, with the closest one.
+  message = error_of(folder, two + "paper:\n  title: t\n  columns: [frame_ms]\n  rows:\n"
+                                   "    - {method: photon_map, match: {variant: lareg}, values: {frame_ms: 3}}\n");
+  EXPECT_NE(message.find("one of the experiment's variants (small, large)"), std::string::npos) << message;
+  EXPECT_NE(message.find("did you mean 'large'"), std::string::npos) << message;
+  EXPECT_NE(message.find("bad.yaml:"), std::string::npos) << message;
 }
 
 // A variant may name a scene file of its own (an extremes or capability case): it starts from that
