@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "core/build_info.h"
 #include "experiments/result_store.h"
 #include "metrics/metrics.h"
 
@@ -97,7 +98,7 @@ RunRecord run_identity(const Experiment& experiment, const RunSpec& run) {
   record.label = run.label;
   record.variant = variant.name;
   record.reference_key = variant.reference_key;
-  record.git_revision = CAUSTICBENCH_GIT_REVISION;
+  record.git_revision = git_revision();
   record.reference_settings = experiment.reference_params.to_json();
   record.build = run.build.to_json();
   record.frame = run.frame.to_json();

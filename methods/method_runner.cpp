@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "core/build_info.h"
 #include "core/direct_lighting.h"
 #include "core/parallel.h"
 #include "methods/memory_estimate.h"
@@ -88,7 +89,7 @@ nlohmann::json environment_json(int threads) {
           {"threads", threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency())},
           {"compiler", fmt::format("{} {}", "g++", __VERSION__)},
           {"build_type", build_type},
-          {"git_revision", CAUSTICBENCH_GIT_REVISION},
+          {"git_revision", git_revision()},
           {"compute_device", "cpu"}};
 }
 
