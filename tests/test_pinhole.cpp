@@ -370,9 +370,9 @@ TEST(Pinhole, ConvergesToTheReference) {
 // a second interface), but it is a model with a closed form to check the method against: parallel light
 // (1 W/m^2) through the sphere's cross-section, refracted at entry with weight 1 - F and followed in a
 // straight line to the floor, lands on the visible floor (outside the silhouette, inside the view) with
-// the flux summed here by a 400 x 400 quadrature, independent of pinhole's sampling and lookups (measured
-// 0.622 W; scripts/glass_sphere_ray_model.py agrees). pinhole's sum of E times each pixel's footprint
-// squared is that flux within 4 %: measured 2.1 % low at 5,000 samples (pixel centres against the
+// the flux summed here by a 400 x 400 quadrature, independent of pinhole's sampling and lookups
+// (0.6227 W; scripts/glass_sphere_ray_model.py: 0.6223). pinhole's sum of E times each pixel's
+// footprint squared is that flux within 4 %: measured 2.3 % low at 5,000 samples (pixel centres against the
 // integral, and the light's 0.02 sr spread). Without the n^2 of the radiance entering the glass it
 // would be 0.44 of it; the physics (two interfaces, the reference) is 0.75 of it, the energy ratio the
 // glass capability study measures.
