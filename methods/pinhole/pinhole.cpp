@@ -59,7 +59,11 @@ const MethodInfo& PinholeMethod::static_info() {
     c.occlusion = false;
     // E_c is irradiance, which does not depend on the receiver's BRDF (measured equal on a glossy floor).
     c.non_lambertian_receivers = true;
-    c.notes = {{"refraction", "a single refraction (interaction: refract), e.g. a water surface over a pool floor"},
+    // A closed glass object (two interfaces) is beyond the paper's single refraction: measured on the glass
+    // sphere of configs/scenes/capabilities/glass/ (README, "Refraction: one interface").
+    c.notes = {{"refraction", "a single refraction (interaction: refract), e.g. a water surface over a pool floor; the "
+                              "receiver is taken to lie in the glass, so a closed object's exit interface is not "
+                              "modelled (a glass sphere over a floor: energy 1.31, what one interface gives)"},
                {"point_light", "approximated as distant from the reflectors' centre, as the paper does: right for a light "
                                "far from the reflector, measurably wrong for one near it (Liu 2008 Table 1 agrees)"},
                {"non_lambertian_receivers", "E_c is irradiance, independent of the receiver's BRDF; each sample's "
