@@ -5,7 +5,6 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
-#include "core/parallel.h"
 #include "core/progress.h"
 
 namespace causticbench {
@@ -216,70 +215,6 @@ void CslMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
       view.lights.push_back(std::move(light_view));
     }
   }
-}
-
-Image CslMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
-  if (render.text("backend") == "vulkan") return render_vulkan(gbuffer, render);
-  note_cpu_render();
-  Image result(gbuffer.width, gbuffer.height, 3);
-  std::vector<double> evaluations(gbuffer.pixel_count() / 1024 + 1, 0.0);
-  std::vector<EvaluationSettings> settings_of;  // per object (axis_epsilon is in its bounding radii)
-  for (const ObjectSets& sets : objects_) settings_of.push_back(evaluation_settings(render, sets.bounds));
-  // occlusion applies on the CPU backend only (the Vulkan kernel has no ray tracer).
-  const bool shadow_rays = render.has("occlusion") && render.text("occlusion") == "shadow_rays";
-  parallel_blocks(gbuffer.pixel_count(), 1024, [&](size_t begin, size_t end, size_t) {
-    double count = 0.0;
-    for (size_t i = 0; i < objects_.size(); ++i) {
-      const ObjectFrame& view = frame_[i];
-      if (view.lights.empty()) continue;
-      const EvaluationSettings& settings = settings_of[i];
-      for (size_t pixel = begin; pixel < end; ++pixel) {
-        if (!gbuffer.receiver[pixel]) continue;
-        const Vec3 point = view.map.point(gbuffer.position[pixel]);
-        const Vec3 normal = glm::normalize(view.map.normals * gbuffer.normal[pixel]);
-        // The disk of the pixel's footprint: the same area as its square.
-        const float footprint = gbuffer.footprint[pixel] * view.length_scale / std::sqrt(kPi);
-        Color total(0.0f);
-        // occlusion: shadow_rays: a ray's light reaches the point unless the path back towards its
-        // light plane point meets another object before the caustic object itself (or the plane).
-        const Vec3 world_point = gbuffer.position[pixel], world_normal = gbuffer.normal[pixel];
-        auto visible = [&](const glm::dvec3& travel, const glm::dvec3& from) {
-          const Vec3 from_world = view.to_world * (Vec3(from) - view.map.offset);
-          const Vec3 towards = glm::normalize(-(view.to_world * Vec3(travel)));
-          const float side = glm::dot(world_normal, towards) >= 0.0f ? 1.0f : -1.0f;
-          Ray ray;
-          ray.origin = world_point + (side * tracer_->epsilon()) * world_normal;
-          ray.direction = towards;
-          ray.t_max = glm::length(from_world - ray.origin);
-          SurfaceHit hit;
-          return !tracer_->intersect(ray, hit) || hit.object == objects_[i].object;
-        };
-        auto add = [&](const auto& spot, const LightView& light) {
-          float value[3] = {0.0f, 0.0f, 0.0f};
-          if (shadow_rays) {
-            spot.evaluate(point, normal, footprint, settings, value, visible);
-          } else {
-            spot.evaluate(point, normal, footprint, settings, value);
-          }
-          count += 1.0;
-          const Color added = spot.image.channels() == 1 ? Color(value[0]) : Color(value[0], value[1], value[2]);
-          total += added * light.irradiance;
-        };
-        for (const LightView& light : view.lights) {
-          if (light.set != nullptr) {
-            for (const SpotLight& spot : light.set->lights) add(spot, light);
-          }
-          for (const InterpolatedSpotLight& spot : light.interpolated) add(spot, light);
-        }
-        const Color before(result.at(pixel, 0), result.at(pixel, 1), result.at(pixel, 2));
-        result.set_rgb(pixel, before + total);
-      }
-    }
-    evaluations[begin / 1024] = count;
-  });
-  evaluations_ = 0.0;
-  for (double count : evaluations) evaluations_ += count;
-  return result;
 }
 
 size_t CslMethod::memory_bytes() const {

@@ -103,6 +103,22 @@ const MethodInfo& CslMethod::static_info() {
                           "per contributing spot light ray; the cpu backend only)",
                           ParamPhase::render)
             .only_when("backend", {"cpu"}),
+        // Added after csl's runs were recorded; neither changes the image (the cull is exact, the lanes
+        // agree with the scalar evaluation to rounding), so their defaults are left out of the run key.
+        ParamSpec::choice("cull", "on", {"on", "off"},
+                          "on: each spot light is evaluated only at the receivers its rays' volume may reach (a "
+                          "conservative bound per 8 x 8 pixels and per 8 receivers; the image is the same bit for bit); "
+                          "off: every receiver and spot light (the cpu backend)",
+                          ParamPhase::render)
+            .only_when("backend", {"cpu"})
+            .unkeyed_at_default(),
+        ParamSpec::choice("lanes", "vector", {"vector", "scalar"},
+                          "vector: the geometry of Eqs. 2 to 4 for 8 receivers at a time in double SIMD lanes (AVX2 or "
+                          "SSE2), then the image lookups of the rays found; scalar: one receiver at a time; shadow_rays "
+                          "always run scalar (the cpu backend)",
+                          ParamPhase::render)
+            .only_when("backend", {"cpu"})
+            .unkeyed_at_default(),
         ParamSpec::real("axis_epsilon", 1e-4, 1e-9, 1.0, "on_axis: epsilon: the distance, in bounding radii",
                         ParamPhase::render)
             .only_when("on_axis", {"epsilon"}),
@@ -134,7 +150,9 @@ const MethodInfo& CslMethod::static_info() {
     m.quick_knobs = {"rays_per_side=48", "image_size=128"};
     m.counters = {counter_quantity("spot_lights", "lights", "caustic spot lights over all objects and light directions"),
                   counter_quantity("caustic_rays", "rays", "caustic object rays that left the objects (all directions)"),
-                  counter_quantity("csl_evaluations", "evaluations", "spot light evaluations in the last frame"),
+                  counter_quantity("csl_evaluations", "evaluations",
+                                   "receiver point and spot light pairs evaluated in the last frame, after the cull (the "
+                                   "Vulkan backend: every pair)"),
                   counter_quantity("image_bytes", "bytes", "intensity images, all spot lights", QuantityKind::size),
                   counter_quantity("light_directions", "directions", "light directions with a spot light set, all objects"),
                   counter_quantity("spot_lights_per_direction", "lights",

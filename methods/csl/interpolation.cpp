@@ -13,6 +13,9 @@ void BlendedImage::add(const Source& source) {
   sources_[count_++] = source;
   channels_ = std::max(channels_, source.image->channels());
   max_radius_ = std::max(max_radius_, source.image->max_radius());
+  if (source.image->support_radius() > 0.0) {
+    support_radius_ = std::max(support_radius_, source.image->support_radius() * (1.0 + 1e-5));
+  }
 }
 
 bool BlendedImage::lookup(double x, double y, float* out) const {

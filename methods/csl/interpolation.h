@@ -33,12 +33,16 @@ class BlendedImage {
   double max_radius() const { return max_radius_; }
   bool lookup(double x, double y, float* out) const;
   void flux_within(double r, double* out) const;
+  // Its sources' largest, with a margin for their maps, which turn a plane (u and v are float) into
+  // another only up to about 1e-7 of a radius.
+  double support_radius() const { return support_radius_; }
 
  private:
   std::array<Source, 3> sources_{};
   int count_ = 0;
   int channels_ = 1;
   double max_radius_ = 0.0;
+  double support_radius_ = 0.0;
 };
 
 struct InterpolatedSpotLight {

@@ -73,6 +73,7 @@ IntensityImage::IntensityImage(int size, int channels, float half_size, const st
     }
   }
   build_radial_table();
+  find_support();
 }
 
 IntensityImage IntensityImage::from_stored(int size, int channels, float half_size, Precision precision,
@@ -93,6 +94,7 @@ IntensityImage IntensityImage::from_stored(int size, int channels, float half_si
   image.quantised_ = std::move(quantised);
   image.scales_ = std::move(scales);
   image.build_radial_table();
+  image.find_support();
   return image;
 }
 
@@ -171,6 +173,22 @@ void IntensityImage::build_radial_table() {
       radial_[next] = radial_[here] + 0.5 * (ring_[here] + ring_[next]) * bin_width;
     }
   }
+}
+
+void IntensityImage::find_support() {
+  const double width = 2.0 * half_size_ / size_;
+  double farthest = -1.0;
+  for (int j = 0; j < size_; ++j) {
+    for (int i = 0; i < size_; ++i) {
+      bool zero = true;
+      for (int c = 0; c < channels_; ++c) zero = zero && texel(i, j, c) == 0.0f;
+      if (zero) continue;
+      const double x = -half_size_ + (i + 0.5) * width, y = -half_size_ + (j + 0.5) * width;
+      farthest = std::max(farthest, std::sqrt(x * x + y * y));
+    }
+  }
+  // A lookup reads a texel when it is less than one texel from its centre along each axis.
+  support_radius_ = farthest < 0.0 ? 0.0 : farthest + 2.0 * 1.41421356237 * width;
 }
 
 void IntensityImage::flux_within(double r, double* out) const {

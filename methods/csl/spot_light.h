@@ -74,6 +74,10 @@ class IntensityImage {
   void flux_within(double r, double* out) const;
   // The largest radius the image covers (its corner).
   double max_radius() const { return half_size_ * 1.41421356237; }
+  // A radius beyond which every lookup() is zero: the farthest non-zero texel's centre plus the
+  // reach of the bilinear filter (a texel diagonal) and a texel diagonal more for the lookup's float
+  // rounding; 0 for an all-zero image (a black spot light). What the CPU backend's cull bounds with.
+  double support_radius() const { return support_radius_; }
   // Total flux per channel: the sum of the texels times their area.
   void total_flux(double* out) const;
   size_t memory_bytes() const;
@@ -92,6 +96,7 @@ class IntensityImage {
 
  private:
   void build_radial_table();
+  void find_support();
 
   int size_ = 0, channels_ = 1;
   float half_size_ = 0.0f;
@@ -99,6 +104,7 @@ class IntensityImage {
   std::vector<float> floats_;
   std::vector<uint16_t> quantised_;
   std::vector<float> scales_;  // uint16: per channel, value = q * scale
+  double support_radius_ = 0.0;
   // Per channel at radius k * max_radius / bins, k = 0..bins: the flux within it, and the ring
   // integral there.
   int radial_bins_ = 0;
@@ -130,6 +136,7 @@ struct SpotGeometry {
 //   double max_radius() const;                        no ray leaves the plane farther out
 //   bool lookup(double x, double y, float* out) const; false, out untouched, beyond the image
 //   void flux_within(double r, double* out) const;     the flux of the rays leaving radii [0, r]
+//   double support_radius() const;                    lookup() reads zero beyond it
 class StoredImage {
  public:
   explicit StoredImage(const IntensityImage& image) : image_(image) {}
@@ -142,6 +149,7 @@ class StoredImage {
     return true;
   }
   void flux_within(double r, double* out) const { image_.flux_within(r, out); }
+  double support_radius() const { return image_.support_radius(); }
 
  private:
   const IntensityImage& image_;

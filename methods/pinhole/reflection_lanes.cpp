@@ -1,8 +1,7 @@
 // The vectorised geometric parts of pinhole's CPU kernel (declared in reflection_lanes.h).
 #include "methods/pinhole/reflection_lanes.h"
 
-#include <immintrin.h>
-
+#include "methods/common/simd_lanes.h"
 #include "methods/pinhole/cube_filter.h"
 #include "methods/pinhole/light_map.h"
 
@@ -10,52 +9,8 @@ namespace causticbench {
 
 namespace {
 
-// Four- and eight-lane float vectors with the few operations the kernel below needs. SSE2 is part of
-// every x86-64; the AVX2 lanes are used where the processor has them (checked at run time).
-#define CAUSTICBENCH_SIMD_OPS(PREFIX, VEC, ATTRIBUTE)                                                    \
-  ATTRIBUTE static VEC set1(float v) { return PREFIX##_set1_ps(v); }                                     \
-  ATTRIBUTE static VEC load(const float* p) { return PREFIX##_loadu_ps(p); }                             \
-  ATTRIBUTE static void store(float* p, VEC v) { PREFIX##_storeu_ps(p, v); }                             \
-  ATTRIBUTE static VEC add(VEC a, VEC b) { return PREFIX##_add_ps(a, b); }                               \
-  ATTRIBUTE static VEC sub(VEC a, VEC b) { return PREFIX##_sub_ps(a, b); }                               \
-  ATTRIBUTE static VEC mul(VEC a, VEC b) { return PREFIX##_mul_ps(a, b); }                               \
-  ATTRIBUTE static VEC div(VEC a, VEC b) { return PREFIX##_div_ps(a, b); }                               \
-  ATTRIBUTE static VEC sqrt(VEC a) { return PREFIX##_sqrt_ps(a); }                                       \
-  ATTRIBUTE static VEC bit_and(VEC a, VEC b) { return PREFIX##_and_ps(a, b); }                           \
-  ATTRIBUTE static VEC bit_or(VEC a, VEC b) { return PREFIX##_or_ps(a, b); }                             \
-  ATTRIBUTE static VEC and_not(VEC a, VEC b) { return PREFIX##_andnot_ps(a, b); }                        \
-  ATTRIBUTE static VEC select(VEC mask, VEC a, VEC b) { return PREFIX##_or_ps(PREFIX##_and_ps(mask, a), PREFIX##_andnot_ps(mask, b)); } \
-  /* max and min return the second operand when the first is NaN: clamps turn NaN into a bound. */     \
-  ATTRIBUTE static VEC max(VEC a, VEC b) { return PREFIX##_max_ps(a, b); }                               \
-  ATTRIBUTE static VEC min(VEC a, VEC b) { return PREFIX##_min_ps(a, b); }
-
-struct Sse {
-  using Vec = __m128;
-  static constexpr size_t width = 4;
-  CAUSTICBENCH_SIMD_OPS(_mm, __m128, )
-  static Vec less(Vec a, Vec b) { return _mm_cmplt_ps(a, b); }
-  static Vec greater(Vec a, Vec b) { return _mm_cmpgt_ps(a, b); }
-  static Vec greater_equal(Vec a, Vec b) { return _mm_cmpge_ps(a, b); }
-  static Vec unordered(Vec a, Vec b) { return _mm_cmpunord_ps(a, b); }
-  static void store_int(int* p, Vec v) { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), _mm_cvttps_epi32(v)); }
-  static Vec truncate(Vec v) { return _mm_cvtepi32_ps(_mm_cvttps_epi32(v)); }
-};
-
-#define CAUSTICBENCH_AVX2 __attribute__((target("avx2")))
-struct Avx2 {
-  using Vec = __m256;
-  static constexpr size_t width = 8;
-  CAUSTICBENCH_SIMD_OPS(_mm256, __m256, CAUSTICBENCH_AVX2)
-  CAUSTICBENCH_AVX2 static Vec less(Vec a, Vec b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
-  CAUSTICBENCH_AVX2 static Vec greater(Vec a, Vec b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
-  CAUSTICBENCH_AVX2 static Vec greater_equal(Vec a, Vec b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
-  CAUSTICBENCH_AVX2 static Vec unordered(Vec a, Vec b) { return _mm256_cmp_ps(a, b, _CMP_UNORD_Q); }
-  CAUSTICBENCH_AVX2 static void store_int(int* p, Vec v) {
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), _mm256_cvttps_epi32(v));
-  }
-  CAUSTICBENCH_AVX2 static Vec truncate(Vec v) { return _mm256_round_ps(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC); }
-};
-
+using simd::Avx2;
+using simd::Sse;
 
 // The geometric part of the unfiltered reflection for one receiver point and a block of samples: the
 // cube-map face and texel coordinates of the direction towards the light (the arithmetic of
@@ -194,18 +149,13 @@ CAUSTICBENCH_AVX2 __attribute__((flatten)) void filtered_skip_avx2(const Filtere
   filtered_skip_lanes<Avx2>(block);
 }
 
-// The AVX2 version where the processor has it (checked once), the SSE2 one otherwise.
-bool has_avx2() {
-  static const bool available = __builtin_cpu_supports("avx2");
-  return available;
-}
 
 }  // namespace
 
 void reflection_block(const ReflectionBlock& block) {
-  has_avx2() ? reflection_block_avx2(block) : reflection_block_sse(block);
+  simd::has_avx2() ? reflection_block_avx2(block) : reflection_block_sse(block);
 }
 
-void filtered_skip(const FilteredSkipBlock& block) { has_avx2() ? filtered_skip_avx2(block) : filtered_skip_sse(block); }
+void filtered_skip(const FilteredSkipBlock& block) { simd::has_avx2() ? filtered_skip_avx2(block) : filtered_skip_sse(block); }
 
 }  // namespace causticbench

@@ -1,23 +1,19 @@
 // The vector fetch of the unfiltered reflection kernel (declared in texel_fetch.h).
 #include "methods/pinhole/texel_fetch.h"
 
-#include <immintrin.h>
-
 #include <cstdlib>
 
+#include "methods/common/simd_lanes.h"
 #include "methods/pinhole/packed_texels.h"
 #include "methods/pinhole/throughput.h"
 
 namespace causticbench {
 
 bool vector_fetch_enabled() {
-  static const bool available = __builtin_cpu_supports("avx2");
-  return available && std::getenv("CAUSTICBENCH_PINHOLE_SCALAR_FETCH") == nullptr;
+  return simd::has_avx2() && std::getenv("CAUSTICBENCH_PINHOLE_SCALAR_FETCH") == nullptr;
 }
 
 namespace {
-
-#define CAUSTICBENCH_AVX2 __attribute__((target("avx2")))
 
 CAUSTICBENCH_AVX2 inline __m256 gather(const float* base, __m256i offsets) {
   return _mm256_i32gather_ps(base, offsets, 4);
