@@ -1,6 +1,8 @@
 // Ray-shape intersections of every built-in shape, Fresnel against tabulated values, refraction and
 // total internal reflection.
+#include <array>
 #include <cmath>
+#include <map>
 #include <filesystem>
 #include <fstream>
 
@@ -192,6 +194,40 @@ TEST(Shapes, MeshFromFile) {
               {{0.8f, 0.8f, 5}, {0, 0, -1}, false, 0, {}}},
              kExact, kExactAngle);
   fs::remove(file);
+}
+
+// The spoon of configs/scenes/spoon_forest.yaml (assets/spoon.obj, written by scripts/make_spoon_mesh.py):
+// every edge is shared by exactly two triangles (the bowl's shell and the handle's bar are closed), and
+// the triangles, wound by the loader after the file's normals, enclose the metal's volume: the bowl's
+// shell (2 pi / 3) [(A + t)(B + t)(C + t) - A B C] plus the handle, t times its outline's area. A normal
+// turned into the metal anywhere (the bowl's inside written with the ellipsoid's outward gradient)
+// flips that surface's triangles and adds, instead of subtracts, its volume.
+TEST(Shapes, SpoonMeshIsClosedAndItsNormalsPointOutOfTheMetal) {
+  Scene scene = single_shape("{type: mesh, asset: spoon}");
+  const TriangleMesh& mesh = *scene.objects.at(0).shape.mesh;
+  ASSERT_GT(mesh.triangles.size(), 1000u);
+  auto key = [](const Vec3& p) { return std::array<float, 3>{p.x, p.y, p.z}; };
+  std::map<std::pair<std::array<float, 3>, std::array<float, 3>>, int> edges;
+  double volume = 0.0;
+  for (const glm::uvec3& triangle : mesh.triangles) {
+    const Vec3 p[3] = {mesh.positions[triangle.x], mesh.positions[triangle.y], mesh.positions[triangle.z]};
+    if (glm::length(glm::cross(p[1] - p[0], p[2] - p[0])) == 0.0f) continue;  // the handle's closed end
+    for (int i = 0; i < 3; ++i) {
+      auto a = key(p[i]), b = key(p[(i + 1) % 3]);
+      ++edges[{std::min(a, b), std::max(a, b)}];
+    }
+    volume += glm::dot(glm::dvec3(p[0]), glm::cross(glm::dvec3(p[1]), glm::dvec3(p[2]))) / 6.0;
+  }
+  size_t open = 0;
+  for (const auto& [edge, count] : edges) open += count != 2;
+  EXPECT_EQ(open, 0u) << "edges not shared by exactly two triangles";
+  // The generator's dimensions: bowl 0.45 x 0.32 x 0.13 inside, sheet 0.02; the handle's outline is
+  // 1.3 long, widening 0.08 -> 0.2 (smoothstep, mean 0.14), less the corners its semicircular end
+  // (radius 0.1) cuts off.
+  const double a = 0.45, b = 0.32, c = 0.13, t = 0.02;
+  const double shell = 2.0 * kPiDouble / 3.0 * ((a + t) * (b + t) * (c + t) - a * b * c);
+  const double handle = t * (0.14 * 1.3 - (0.2 * 0.1 - kPiDouble * 0.1 * 0.1 / 2.0));
+  EXPECT_NEAR(volume, shell + handle, 0.03 * (shell + handle)) << "shell " << shell << ", handle " << handle;
 }
 
 TEST(Optics, DielectricFresnelMatchesTables) {
