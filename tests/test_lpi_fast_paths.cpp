@@ -301,7 +301,9 @@ TEST(LpiFastPaths, ShellAndMultiresLookupsEqualReadingEachSampleAlone) {
 // ring under its turning sun, frame 1, 360 x 360, 42 light samples of 100,000 photons, every storage
 // and blend. Prints per frame the best wall time of 20 renders and the CPU time per render (the
 // machine is shared: CPU time is what the code costs), at 1 and 2 threads. Builds are kept in
-// /tmp/lpi_lookup_throughput_builds between runs. Precisions other than float32: LPI_PRECISIONS=uint8,float16.
+// /tmp/lpi_lookup_throughput_builds between runs. LPI_STORAGES=grid,shells,multires and
+// LPI_PRECISIONS=float32,float16,uint8 choose what is measured (default: every storage, float32),
+// LPI_RENDERS the renders timed (20).
 // Run: build/tests/test_lpi_fast_paths --gtest_also_run_disabled_tests --gtest_filter='*LookupThroughput*'
 TEST(LpiFastPaths, DISABLED_LookupThroughputOnTheTurningRing) {
   // One thread: that thread's CPU time (the lookup alone); two: the process's (TBB's workers spin a
@@ -318,20 +320,24 @@ TEST(LpiFastPaths, DISABLED_LookupThroughputOnTheTurningRing) {
   set_resolution(scene, 360, 360);
   const int frame_index = 1;
   const PosedFrame frame(scene, frame_index);
-  std::vector<std::string> precisions = {"float32"};
-  if (const char* extra = std::getenv("LPI_PRECISIONS")) {
-    std::string list = extra;
-    for (size_t start = 0; start < list.size();) {
-      const size_t comma = std::min(list.find(',', start), list.size());
-      precisions.push_back(list.substr(start, comma - start));
+  auto list = [](const char* variable, std::vector<std::string> otherwise) {
+    const char* text = std::getenv(variable);
+    if (!text) return otherwise;
+    std::vector<std::string> items;
+    const std::string all = text;
+    for (size_t start = 0; start < all.size();) {
+      const size_t comma = std::min(all.find(',', start), all.size());
+      items.push_back(all.substr(start, comma - start));
       start = comma + 1;
     }
-  }
+    return items;
+  };
+  const std::vector<std::string> storages = list("LPI_STORAGES", {"grid", "shells", "multires"});
+  const std::vector<std::string> precisions = list("LPI_PRECISIONS", {"float32"});
   std::printf("%-8s %-8s %-11s %7s %9s %9s %10s %10s %10s\n", "storage", "values", "blend", "threads", "reads/pt",
               "best ms", "CPU ms", "M pts/s", "M pts/CPUs");
-  for (const std::string storage : {"grid", "shells", "multires"}) {
+  for (const std::string& storage : storages) {
     for (const std::string& precision : precisions) {
-      if (storage != "grid" && precision != "float32") continue;
       std::unique_ptr<CausticMethod> method;
       for (const std::string blend : {"nearest", "barycentric", "aligned"}) {
         RenderRequest request;
@@ -355,7 +361,7 @@ TEST(LpiFastPaths, DISABLED_LookupThroughputOnTheTurningRing) {
         for (int threads : {1, 2}) {
           const ThreadLimit limit(threads);
           method->render(frame.gbuffer, phases.render);  // warm
-          const int renders = 20;
+          const int renders = std::getenv("LPI_RENDERS") ? std::atoi(std::getenv("LPI_RENDERS")) : 20;
           double best = 1e30;
           const double cpu_start = cpu_seconds(threads);
           for (int i = 0; i < renders; ++i) {

@@ -4,6 +4,7 @@
 // layout so that its stencil inlines.
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include "core/gbuffer.h"
@@ -76,7 +77,7 @@ inline PreparedReads prepare_reads(const StoredValues& values, const LightReads&
   return prepared;
 }
 
-// out[c] = the sum over the stencil's points of (point weight x read weight) x value, point after
+// out[r][c] = the sum over the stencil's points of (point weight x read weight) x value, point after
 // point, as StoredValues::add would add them into zeros; `Reads` reads at once, one block and read
 // weight each, over the same stencil. The sums stay in local variables (the channel loop unrolled)
 // rather than going through memory at every point.
@@ -85,6 +86,7 @@ inline void read_stencil(const Stencil& stencil, const SampleBlock* blocks, cons
                          float (*out)[9]) {
   constexpr int N = Decoding::channel_count;
   if constexpr (N == 0) {
+    for (int r = 0; r < Reads; ++r) std::fill(out[r], out[r] + channels, 0.0f);
     for (int s = 0; s < stencil.count; ++s)
       for (int r = 0; r < Reads; ++r)
         Decoding::add(blocks[r], stencil.points[s], stencil.weights[s] * read_weights[r], channels, out[r]);
@@ -153,7 +155,7 @@ void add_object_caustic_decoded(const Layout& layout, const ObjectView& view, co
         }
         add_shading(values, normal, vector, paper_cosine, sums);
       }
-      float values[3][9] = {};
+      float values[3][9];  // each read's, written whole by read_stencil (not zeroed here: a memset per point)
       if (reads.unrotated > 0) {
         if (!have_unrotated) {
           unrotated = layout.stencil(center + offset);
