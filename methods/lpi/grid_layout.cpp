@@ -23,6 +23,13 @@ GridLayout::GridLayout(Vec3 center, float radius, int resolution)
   if (resolution < 1) throw std::invalid_argument("GridLayout: resolution below 1");
   cell_ = 2.0f * radius / static_cast<float>(resolution);
   minimum_ = center - Vec3(radius);
+  for (int axis = 0; axis < 3; ++axis) {
+    axis_offsets_[axis].resize(static_cast<size_t>(resolution));
+    for (int i = 0; i < resolution; ++i) {
+      axis_offsets_[axis][static_cast<size_t>(i)] =
+          (minimum_[axis] + cell_ * (static_cast<float>(i) + 0.5f)) - center[axis];
+    }
+  }
 }
 
 Vec3 GridLayout::cell_center(int x, int y, int z) const {
@@ -68,21 +75,40 @@ void GridLayout::deposit(const PathSegment& segment, Orientation orientation, fl
       t_next[axis] = std::numeric_limits<float>::infinity();
     }
   }
+  // The cell's offset from the centre, axis by axis from the table: what cell_center(...) - center_
+  // gives, bit for bit, without its multiplications.
+  const float* offsets[3] = {axis_offsets_[0].data(), axis_offsets_[1].data(), axis_offsets_[2].data()};
+  const size_t row = static_cast<size_t>(resolution_), slice = row * row;
+  const ptrdiff_t index_step[3] = {step[0], step[1] * static_cast<ptrdiff_t>(row), step[2] * static_cast<ptrdiff_t>(slice)};
+  float* cell_sums = sums + index(cell[0], cell[1], cell[2]) * static_cast<size_t>(channels);
+  const bool paper = orientation == Orientation::paper;
   float t = t_enter;
   while (t < t_exit) {
     int axis = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
     const float t_end = std::min(t_next[axis], t_exit);
     if (t_end > t) {
-      const Vec3 to_cell = cell_center(cell[0], cell[1], cell[2]) - center_;
-      const float distance = glm::length(to_cell);
-      const Vec3 sample_direction = distance > 0.0f ? to_cell / distance : Vec3(0.0f);
-      add_track(segment, t_end - t, sample_direction, orientation,
-                sums + index(cell[0], cell[1], cell[2]) * static_cast<size_t>(channels));
+      if (paper) {
+        const Vec3 to_cell(offsets[0][cell[0]], offsets[1][cell[1]], offsets[2][cell[2]]);
+        // A cell the track travels towards the centre in gets cos 0: skipped before the square root
+        // and divisions when the sign is certain (the margin covers both dot products' rounding;
+        // |direction| components are at most 1), so what is added is unchanged.
+        const float towards = glm::dot(segment.direction, to_cell);
+        const float margin = 1e-5f * (std::fabs(to_cell.x) + std::fabs(to_cell.y) + std::fabs(to_cell.z));
+        if (towards >= -margin) {
+          const float distance = glm::length(to_cell);
+          const Vec3 sample_direction = distance > 0.0f ? to_cell / distance : Vec3(0.0f);
+          add_track(segment, t_end - t, sample_direction, orientation, cell_sums);
+        }
+      } else {
+        // The vector orientation does not use the sample's direction.
+        add_track(segment, t_end - t, Vec3(0.0f), orientation, cell_sums);
+      }
     }
     t = t_end;
     if (t >= t_exit) break;
     cell[axis] += step[axis];
     if (cell[axis] < 0 || cell[axis] >= resolution_) break;
+    cell_sums += index_step[axis] * channels;
     t_next[axis] += t_delta[axis];
   }
 }
@@ -91,30 +117,6 @@ void GridLayout::normalise(double photons_emitted, Orientation orientation, doub
   const double factor = 1.0 / (static_cast<double>(cell_) * cell_ * cell_ * photons_emitted);
   const size_t count = points() * static_cast<size_t>(channel_count(orientation));
   for (size_t i = 0; i < count; ++i) values[i] *= factor;
-}
-
-Stencil GridLayout::stencil(const Vec3& position) const {
-  Stencil stencil;
-  int base[3];
-  float fraction[3];
-  for (int axis = 0; axis < 3; ++axis) {
-    // Cell centres sit at half-integer coordinates; beyond the outermost ones the value is held.
-    float local = (position[axis] - minimum_[axis]) / cell_ - 0.5f;
-    local = std::clamp(local, 0.0f, static_cast<float>(resolution_ - 1));
-    base[axis] = std::min(static_cast<int>(local), std::max(0, resolution_ - 2));
-    fraction[axis] = resolution_ > 1 ? local - static_cast<float>(base[axis]) : 0.0f;
-  }
-  const int upper = resolution_ > 1 ? 1 : 0;
-  for (int corner = 0; corner < 8; ++corner) {
-    const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
-    if ((dx || dy || dz) && !upper) continue;
-    const float weight = (dx ? fraction[0] : 1.0f - fraction[0]) * (dy ? fraction[1] : 1.0f - fraction[1]) *
-                         (dz ? fraction[2] : 1.0f - fraction[2]);
-    stencil.points[stencil.count] = static_cast<uint32_t>(index(base[0] + dx, base[1] + dy, base[2] + dz));
-    stencil.weights[stencil.count] = weight;
-    ++stencil.count;
-  }
-  return stencil;
 }
 
 }  // namespace causticbench::lpi

@@ -4,6 +4,10 @@
 // interpolation between cell centres (clamped to the outermost centres).
 #pragma once
 
+#include <algorithm>
+#include <array>
+#include <vector>
+
 #include "methods/lpi/volume_layout.h"
 
 namespace causticbench::lpi {
@@ -16,6 +20,7 @@ class GridLayout final : public VolumeLayout {
   // beyond it, and their means must be of the whole cell.
   void deposit(const PathSegment& segment, Orientation orientation, float* sums) const override;
   void normalise(double photons_emitted, Orientation orientation, double* values) const override;
+  // Inline: the lookup's per-point work (lookup.h) calls it through the concrete type.
   Stencil stencil(const Vec3& position) const override;
   size_t memory_bytes() const override { return 0; }
 
@@ -28,6 +33,43 @@ class GridLayout final : public VolumeLayout {
   int resolution_;
   float cell_;
   Vec3 minimum_;  // corner of the cube
+  // Per axis, cell i's centre minus the ball's centre: the paper orientation's sample direction
+  // along a track, looked up rather than recomputed at every cell the DDA visits.
+  std::array<std::vector<float>, 3> axis_offsets_;
 };
+
+inline Stencil GridLayout::stencil(const Vec3& position) const {
+  Stencil stencil;
+  int base[3];
+  float fraction[3];
+  for (int axis = 0; axis < 3; ++axis) {
+    // Cell centres sit at half-integer coordinates; beyond the outermost ones the value is held.
+    float local = (position[axis] - minimum_[axis]) / cell_ - 0.5f;
+    local = std::clamp(local, 0.0f, static_cast<float>(resolution_ - 1));
+    base[axis] = std::min(static_cast<int>(local), std::max(0, resolution_ - 2));
+    fraction[axis] = resolution_ > 1 ? local - static_cast<float>(base[axis]) : 0.0f;
+  }
+  const uint32_t first = static_cast<uint32_t>(index(base[0], base[1], base[2]));
+  if (resolution_ == 1) {
+    stencil.count = 1;
+    stencil.points[0] = first;
+    stencil.weights[0] = (1.0f - fraction[0]) * (1.0f - fraction[1]) * (1.0f - fraction[2]);
+    return stencil;
+  }
+  // Corner (dx, dy, dz) = bits of its number, x lowest; its weight is the product in x, y, z order.
+  const float x[2] = {1.0f - fraction[0], fraction[0]}, y[2] = {1.0f - fraction[1], fraction[1]},
+              z[2] = {1.0f - fraction[2], fraction[2]};
+  const uint32_t row = static_cast<uint32_t>(resolution_), slice = row * row;
+  const float xy[4] = {x[0] * y[0], x[1] * y[0], x[0] * y[1], x[1] * y[1]};
+  const uint32_t offsets[4] = {0, 1, row, row + 1};
+  for (int corner = 0; corner < 4; ++corner) {
+    stencil.points[corner] = first + offsets[corner];
+    stencil.weights[corner] = xy[corner] * z[0];
+    stencil.points[corner + 4] = first + slice + offsets[corner];
+    stencil.weights[corner + 4] = xy[corner] * z[1];
+  }
+  stencil.count = 8;
+  return stencil;
+}
 
 }  // namespace causticbench::lpi

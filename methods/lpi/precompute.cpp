@@ -71,18 +71,25 @@ void shoot_light_samples(const Scene& build_scene, const VolumeSettings& setting
     for (uint64_t wave_start = 0; wave_start < chunks; wave_start += wave) {
       const size_t in_wave = static_cast<size_t>(std::min<uint64_t>(wave, chunks - wave_start));
       parallel_blocks(in_wave, 1, [&](size_t slot, size_t, size_t) {
-        std::vector<float>& sums = chunk_sums[slot];
-        std::fill(sums.begin(), sums.end(), 0.0f);
+        std::vector<float>& sums = chunk_sums[slot];  // zero: from the start, or the reduction below
         chunk_stats[slot] = PhotonStats{};
         const uint64_t begin = (wave_start + slot) * chunk_size, end = std::min(photons, begin + chunk_size);
         auto deposit = [&](const PathSegment& segment) { layout.deposit(segment, settings.orientation, sums.data()); };
         for (uint64_t i = begin; i < end; ++i) photon_tracer.trace_segments(first_index + i, chunk_stats[slot], deposit);
       });
-      for (size_t slot = 0; slot < in_wave; ++slot) {
-        const std::vector<float>& sums = chunk_sums[slot];
-        for (size_t i = 0; i < values_per_sample; ++i) total[i] += sums[i];
-        volumes.stats.add(chunk_stats[slot]);
-      }
+      // Each value sums the chunks in chunk order whatever the thread count; split over values, the
+      // reduction runs on every core (it ran on one, between waves), and it zeroes the
+      // chunk sums for the next wave while they are in cache.
+      parallel_blocks(values_per_sample, 1 << 16, [&](size_t first, size_t last, size_t) {
+        for (size_t slot = 0; slot < in_wave; ++slot) {
+          float* sums = chunk_sums[slot].data();
+          for (size_t i = first; i < last; ++i) {
+            total[i] += sums[i];
+            sums[i] = 0.0f;
+          }
+        }
+      });
+      for (size_t slot = 0; slot < in_wave; ++slot) volumes.stats.add(chunk_stats[slot]);
     }
     layout.normalise(static_cast<double>(photons), settings.orientation, total.data());
     float* output = all_values.data() + sample * values_per_sample;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace causticbench::lpi {
@@ -19,7 +20,9 @@ size_t precision_bytes(Precision precision);
 // IEEE half precision, round to nearest even; values beyond its range become infinities, which the
 // build refuses (see StoredValues::encode).
 uint16_t float_to_half(float value);
-float half_to_float(uint16_t half);
+inline float half_to_float(uint16_t half);
+
+struct SampleBlock;
 
 class StoredValues {
  public:
@@ -39,6 +42,8 @@ class StoredValues {
 
   // Adds weight * value of `point` of `light_sample` to out[0 .. channels).
   inline void add(size_t light_sample, size_t point, float weight, float* out) const;
+  // One light sample's block, for StoredDecoding's inner loop.
+  inline SampleBlock block(size_t light_sample) const;
   // Every value of one light sample, decoded (tests, the SH projection).
   std::vector<float> decode(size_t light_sample) const;
 
@@ -58,31 +63,101 @@ class StoredValues {
   std::vector<float> scales_;  // per light sample: the uint8 step; 1 otherwise
 };
 
-inline void StoredValues::add(size_t light_sample, size_t point, float weight, float* out) const {
-  const size_t first = (light_sample * points_ + point) * static_cast<size_t>(channels_);
-  switch (precision_) {
-    case Precision::float32: {
-      const float* values = reinterpret_cast<const float*>(bytes_.data()) + first;
-      for (int c = 0; c < channels_; ++c) out[c] += weight * values[c];
-      break;
-    }
-    case Precision::float16: {
-      const uint16_t* values = reinterpret_cast<const uint16_t*>(bytes_.data()) + first;
-      for (int c = 0; c < channels_; ++c) out[c] += weight * half_to_float(values[c]);
-      break;
-    }
-    case Precision::uint8: {
-      const float scaled = weight * scales_[light_sample];
-      if (signed_) {
-        const int8_t* values = reinterpret_cast<const int8_t*>(bytes_.data()) + first;
-        for (int c = 0; c < channels_; ++c) out[c] += scaled * static_cast<float>(values[c]);
-      } else {
-        const uint8_t* values = bytes_.data() + first;
-        for (int c = 0; c < channels_; ++c) out[c] += scaled * static_cast<float>(values[c]);
-      }
-      break;
+// One light sample's block as the lookup's inner loop reads it: the decoding chosen at compile time
+// (StoredDecoding below), the block's first byte and its uint8 step, hoisted out of the per-point work.
+struct SampleBlock {
+  const uint8_t* bytes = nullptr;
+  float scale = 1.0f;
+};
+
+// Reads one light sample's values for one precision (and sign, for uint8) known at compile time;
+// `Channels` 0 reads the count from `channels`. The one definition of the decoding: StoredValues::add
+// and the lookup's fused loops (lookup.h) both use it, so they agree bit for bit. A point adds
+// factor(weight) x value(c) to each channel: for uint8 the weight times the step first, then each
+// level, the order the stored builds' images and the Vulkan kernel have.
+template <Precision P, bool Signed, int Channels>
+struct StoredDecoding {
+  static constexpr int channel_count = Channels;
+  // The first value of `point` in the block.
+  static inline const uint8_t* at(const SampleBlock& block, size_t point, int channels) {
+    const size_t first = point * static_cast<size_t>(Channels > 0 ? Channels : channels);
+    if constexpr (P == Precision::float32) return block.bytes + first * 4;
+    if constexpr (P == Precision::float16) return block.bytes + first * 2;
+    return block.bytes + first;
+  }
+  static inline float factor(const SampleBlock& block, float weight) {
+    if constexpr (P == Precision::uint8) return weight * block.scale;
+    return weight;
+  }
+  static inline float value(const uint8_t* values, int c) {
+    if constexpr (P == Precision::float32) {
+      float v;
+      std::memcpy(&v, values + 4 * c, sizeof(v));
+      return v;
+    } else if constexpr (P == Precision::float16) {
+      uint16_t half;
+      std::memcpy(&half, values + 2 * c, sizeof(half));
+      return half_to_float(half);
+    } else if constexpr (Signed) {
+      return static_cast<float>(static_cast<int8_t>(values[c]));
+    } else {
+      return static_cast<float>(values[c]);
     }
   }
+  // out[c] += factor(weight) x value(c), c < channels.
+  static inline void add(const SampleBlock& block, size_t point, float weight, int channels, float* out) {
+    const int count = Channels > 0 ? Channels : channels;
+    const uint8_t* values = at(block, point, channels);
+    const float f = factor(block, weight);
+    for (int c = 0; c < count; ++c) out[c] += f * value(values, c);
+  }
+};
+
+inline SampleBlock StoredValues::block(size_t light_sample) const {
+  return SampleBlock{bytes_.data() + light_sample * bytes_per_light_sample(), scales_[light_sample]};
+}
+
+inline void StoredValues::add(size_t light_sample, size_t point, float weight, float* out) const {
+  const SampleBlock sample = block(light_sample);
+  switch (precision_) {
+    case Precision::float32:
+      StoredDecoding<Precision::float32, false, 0>::add(sample, point, weight, channels_, out);
+      break;
+    case Precision::float16:
+      StoredDecoding<Precision::float16, false, 0>::add(sample, point, weight, channels_, out);
+      break;
+    case Precision::uint8:
+      if (signed_) {
+        StoredDecoding<Precision::uint8, true, 0>::add(sample, point, weight, channels_, out);
+      } else {
+        StoredDecoding<Precision::uint8, false, 0>::add(sample, point, weight, channels_, out);
+      }
+      break;
+  }
+}
+
+// Calls fn(StoredDecoding<...>{}) with the decoding of `values`, channels fixed at 3 or 9 (the two
+// orientations) so that the lookup's loops unroll; any other count is read at run time.
+template <class Function>
+decltype(auto) with_decoding(const StoredValues& values, Function&& fn) {
+  auto by_channels = [&](auto precision, auto is_signed) -> decltype(auto) {
+    constexpr Precision P = decltype(precision)::value;
+    constexpr bool S = decltype(is_signed)::value;
+    if (values.channels() == 3) return fn(StoredDecoding<P, S, 3>{});
+    if (values.channels() == 9) return fn(StoredDecoding<P, S, 9>{});
+    return fn(StoredDecoding<P, S, 0>{});
+  };
+  using Float32 = std::integral_constant<Precision, Precision::float32>;
+  using Float16 = std::integral_constant<Precision, Precision::float16>;
+  using Uint8 = std::integral_constant<Precision, Precision::uint8>;
+  switch (values.precision()) {
+    case Precision::float32: return by_channels(Float32{}, std::false_type{});
+    case Precision::float16: return by_channels(Float16{}, std::false_type{});
+    case Precision::uint8:
+      break;
+  }
+  if (values.signed_channels()) return by_channels(Uint8{}, std::true_type{});
+  return by_channels(Uint8{}, std::false_type{});
 }
 
 inline float half_to_float(uint16_t half) {
