@@ -327,3 +327,55 @@ TEST(LpiEnvironment, GlassSphereUnderEnvironmentLightsMatchesTheReference) {
     EXPECT_NEAR(energy, 1.0, c.energy);
   }
 }
+
+// environment_clamp: per_sample. A mirror ring under a diffuse ceiling (facing down, at the ring's
+// top) lit by two small spots, one 25 degrees below the horizon and one 55 degrees above it. The ring's
+// walls are vertical, so a mirror keeps the sign of a photon's vertical travel: the light from above
+// travels downwards everywhere after it, and each of its samples alone gives the ceiling (normal -y)
+// n . E_s <= 0, nothing (as the ceiling itself, which would block that light, would). The spots' hat
+// functions share no sample (each reaches 5.26 sigma = 3.8 degrees; subdivision 2's edges are under 20
+// degrees), so per_sample renders the two spots exactly as the spot below alone. Summed first
+// (combined), the downward light cancels the upward light in the cells under the ceiling (measured:
+// energy ratio 0.44 to the spot below alone; bound 0.8, to show the test tells the two apart). Under
+// the spot below alone no light travels downwards: per_sample and combined agree to rounding
+// (measured 1e-8 of the flux; bound 1e-4 of the largest value).
+TEST(LpiEnvironment, PerSampleClampIgnoresLightFromTheOtherSideOfAVerticalMirror) {
+  const std::string scene_text = R"(
+camera: {type: orthographic, position: [0, -3, 0], look_at: [0, 0, 0], up: [0, 0, 1], view_height: 2.4, resolution: [48, 48]}
+lights: [LIGHTS]
+objects:
+  - shape: {type: quad, size: [6, 6]}
+    material: {type: diffuse, albedo: 0.8}
+    transform: {rotate: [180, 0, 0], translate: [0, 0.4, 0]}
+  - shape: {type: ring, radius: 0.6, height: 0.4}
+    material: {type: mirror, reflectance: 0.9}
+    transform: {translate: [0, 0.2, 0]}
+)";
+  const std::string below = "{type: environment, procedural: gaussian_spot, direction: [0.2, 0.422618, 0.883723], "
+                            "irradiance: 1, solid_angle_sr: 0.001}";
+  const std::string above = "{type: environment, procedural: gaussian_spot, direction: [0.2, -0.819152, 0.537], "
+                            "irradiance: 1, solid_angle_sr: 0.001}";
+  const Scene below_only = scene_from_yaml(replace_once(scene_text, "LIGHTS", below));
+  const Scene both = scene_from_yaml(replace_once(scene_text, "LIGHTS", below + ", " + above));
+  auto render = [&](const Scene& scene, const std::string& clamp) {
+    return causticbench::testing::render(scene, "lpi", {"light_subdivision=2", "photons_per_sample=5000", "grid_resolution=24",
+                                                        "orientation=vector", "environment_clamp=" + clamp});
+  };
+  const FrameResult per_sample_below = render(below_only, "per_sample");
+  const FrameResult per_sample_both = render(both, "per_sample");
+  const FrameResult combined_below = render(below_only, "combined");
+  const FrameResult combined_both = render(both, "combined");
+  EXPECT_EQ(per_sample_both.method_record["objects"][0]["environment"]["clamp"], "per_sample");
+  const std::vector<uint8_t>& mask = per_sample_below.gbuffer.receiver;
+  const double scale = largest(per_sample_below.caustic);
+  ASSERT_GT(scale, 0.0);
+  const double above_difference = largest_difference(per_sample_both.caustic, per_sample_below.caustic) / scale;
+  const double clamp_difference = largest_difference(combined_below.caustic, per_sample_below.caustic) / scale;
+  const double combined_ratio = masked_sum(combined_both.caustic, mask) / masked_sum(combined_below.caustic, mask);
+  std::printf("ring under a ceiling, spot above added: per_sample largest difference %.2e, combined energy ratio %.4f; "
+              "spot below alone: combined against per_sample %.2e\n",
+              above_difference, combined_ratio, clamp_difference);
+  EXPECT_LT(above_difference, 1e-6);
+  EXPECT_LT(combined_ratio, 0.8);
+  EXPECT_LT(clamp_difference, 1e-4);
+}

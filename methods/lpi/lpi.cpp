@@ -102,6 +102,14 @@ const MethodInfo& LpiMethod::static_info() {
                           "three read at the point turned by the angle between it and the light (Section 5.2)",
                           ParamPhase::frame)
             .only_when("storage", sampled),
+        // Added after experiments shipped: at combined it stays out of their run keys.
+        ParamSpec::choice("environment_clamp", "combined", {"combined", "per_sample"},
+                          "environment lights, orientation vector: combined: the light samples' volumes summed into one "
+                          "and shaded max(0, n . E) once; per_sample: each sample shaded max(0, n . E_s), then weighted "
+                          "and summed (every sample read a pixel)",
+                          ParamPhase::frame)
+            .only_when("storage", sampled)
+            .unkeyed_at_default(),
         ParamSpec::choice("outside", "clamp", {"clamp", "fade", "zero"},
                           "beyond the sampled ball: the value on its surface (clamp), that times (R / d)^2 (fade), or none",
                           ParamPhase::render),
@@ -232,7 +240,7 @@ void LpiMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
     const ObjectVolumes& object = objects_[i];
     lpi::ObjectFrame& view = frame_[i];
     view.map = build_space_map(scene_->objects[object.object], frame.frame.frame);
-    update_environment(i, frame.frame.lights, view.map);
+    update_environment(i, frame.frame.lights, view.map, !harmonic && frame_knobs.text("environment_clamp") == "per_sample");
     for (const LightFrame& light : frame.frame.lights) {
       if (is_environment_light(light.kind)) continue;  // in environment_[i]
       const ObjectLight seen = object_light(view.map, light, object.bounds.center);
@@ -254,7 +262,8 @@ void LpiMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
 
 // An environment light's weights (environment.h) depend on the object's turn and the light's pose
 // only: when neither changed since the last frame, the combined volume serves again.
-void LpiMethod::update_environment(size_t object_index, const std::vector<LightFrame>& lights, const BuildSpaceMap& map) {
+void LpiMethod::update_environment(size_t object_index, const std::vector<LightFrame>& lights, const BuildSpaceMap& map,
+                                   bool per_sample) {
   const ObjectVolumes& object = objects_[object_index];
   EnvironmentState& state = environment_[object_index];
   std::vector<Vec3> pose = {map.linear[0], map.linear[1], map.linear[2]};
@@ -264,7 +273,7 @@ void LpiMethod::update_environment(size_t object_index, const std::vector<LightF
     state = EnvironmentState{};
     return;
   }
-  if (state.active && state.pose == pose) return;
+  if (state.active && state.pose == pose && state.per_sample == per_sample) return;
   const auto start = std::chrono::steady_clock::now();
   const bool harmonic = settings_.storage == StorageKind::sh;
   const int bands = settings_.sh_order + 1;
@@ -292,7 +301,10 @@ void LpiMethod::update_environment(size_t object_index, const std::vector<LightF
       }
     }
   }
-  state.values = combine_blocks(object.values, block_weights);
+  // per_sample: render() reads each block with its weight and clamps it alone; nothing to combine.
+  state.per_sample = per_sample;
+  state.values = per_sample ? StoredValues{} : combine_blocks(object.values, block_weights);
+  state.weights = std::move(block_weights);
   state.pose = std::move(pose);
   state.active = true;
   state.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -307,6 +319,20 @@ Outside outside_mode(const ParamSet& render) {
 
 }  // namespace
 
+// One light of irradiance W_s reading block s alone, for every block the map lights.
+std::vector<LightView> LpiMethod::environment_reads(const EnvironmentState& state) {
+  std::vector<LightView> views;
+  for (size_t block = 0; block < state.weights.size(); ++block) {
+    if (state.weights[block] == glm::dvec3(0.0)) continue;
+    LightView view;
+    view.irradiance = Color(state.weights[block]);
+    view.reads.count = 1;
+    view.reads.reads[0] = SampleRead{static_cast<uint32_t>(block), 1.0f, false, glm::mat3(1.0f)};
+    views.push_back(view);
+  }
+  return views;
+}
+
 Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
   Image result(gbuffer.width, gbuffer.height, 3);
   // Counted from the frame's plan, not in the per-pixel loop: each receiver point reads each light's
@@ -314,7 +340,7 @@ Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
   size_t reads_per_point = 0;
   for (size_t i = 0; i < frame_.size(); ++i) {
     for (const lpi::LightView& light : frame_[i].lights) reads_per_point += light.harmonics.empty() ? light.reads.count : 1;
-    if (environment_[i].active) ++reads_per_point;  // the combined volume
+    if (environment_[i].active) reads_per_point += environment_[i].per_sample ? environment_reads(environment_[i]).size() : 1;
   }
   volume_reads_ = static_cast<double>(gbuffer.receiver_count()) * static_cast<double>(reads_per_point);
   const Outside mode = outside_mode(render);
@@ -329,6 +355,10 @@ Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
   environment_light.irradiance = Color(1.0f);
   environment_light.reads.count = 1;
   environment_light.reads.reads[0] = SampleRead{0, 1.0f, false, glm::mat3(1.0f)};
+  // environment_clamp: per_sample: every lit sample as a light of its own, so that each is clamped alone.
+  std::vector<std::vector<LightView>> per_sample(objects_.size());
+  for (size_t i = 0; i < objects_.size(); ++i)
+    if (environment_[i].active && environment_[i].per_sample) per_sample[i] = environment_reads(environment_[i]);
   parallel_blocks(gbuffer.pixel_count(), 1024, [&](size_t begin, size_t end, size_t) {
     for (size_t i = 0; i < objects_.size(); ++i) {
       const VolumeLayout& layout = *objects_[i].layout;
@@ -343,7 +373,11 @@ Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
         }
       };
       add(ObjectView{objects_[i].values, frame_[i].map, frame_[i].lights.data(), frame_[i].lights.size(), mode});
-      if (environment_[i].active) add(ObjectView{environment_[i].values, frame_[i].map, &environment_light, 1, mode});
+      if (environment_[i].active && environment_[i].per_sample) {
+        add(ObjectView{objects_[i].values, frame_[i].map, per_sample[i].data(), per_sample[i].size(), mode});
+      } else if (environment_[i].active) {
+        add(ObjectView{environment_[i].values, frame_[i].map, &environment_light, 1, mode});
+      }
     }
   });
   return result;
@@ -397,7 +431,8 @@ nlohmann::json LpiMethod::record() const {
       const EnvironmentState& state = environment_[index];
       entry["environment"] = {{"quadrature_points", state.quadrature_points},
                               {"seconds", state.seconds},
-                              {"irradiance_outside_set", luminance(Color(state.outside_set))}};
+                              {"irradiance_outside_set", luminance(Color(state.outside_set))},
+                              {"clamp", state.per_sample ? "per_sample" : "combined"}};
     }
     objects.push_back(std::move(entry));
   }

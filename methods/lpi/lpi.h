@@ -43,7 +43,9 @@ class LpiMethod : public CausticMethod {
   struct EnvironmentState {
     bool active = false;
     std::vector<Vec3> pose;  // the object's turn (three columns) and each environment light's direction
-    lpi::StoredValues values;
+    lpi::StoredValues values;      // the blocks combined by `weights` (empty under per_sample)
+    std::vector<glm::dvec3> weights;  // W_s per block of the object's values (environment.h)
+    bool per_sample = false;          // environment_clamp: per_sample
     size_t quadrature_points = 0;
     glm::dvec3 outside_set{0.0};  // irradiance on points the plan left out (frames it was not told of)
     double seconds = 0.0;         // the last weighing and combining
@@ -52,7 +54,8 @@ class LpiMethod : public CausticMethod {
   // The volumes' sample sets and layouts, without their values (prepare() shoots them, load_build()
   // reads them).
   void plan(const PrepareContext& context, const ParamSet& build);
-  void update_environment(size_t object, const std::vector<LightFrame>& lights, const BuildSpaceMap& map);
+  void update_environment(size_t object, const std::vector<LightFrame>& lights, const BuildSpaceMap& map, bool per_sample);
+  static std::vector<lpi::LightView> environment_reads(const EnvironmentState& state);
   // backend: vulkan: the device, and the build's values and tables on it (after prepare or load_build).
   void start_backend();
 
