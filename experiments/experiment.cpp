@@ -9,6 +9,8 @@
 #include <fmt/format.h>
 
 #include "core/files.h"
+#include "core/hash.h"
+#include "core/scene_description.h"
 #include "experiments/capability_matrix_settings.h"
 #include "experiments/result_store.h"
 #include "metrics/metrics.h"
@@ -384,6 +386,7 @@ Experiment load_experiment(const std::string& path) {
   if (std::optional<ConfigNode> reference = root.optional_child("reference")) reference_dict.set_from_config(*reference);
   experiment.reference_params = reference_dict.resolve(find_method("reference").info().params, "reference");
   for (SceneVariant& variant : experiment.variants) {
+    variant.content_hash = hash_json(scene_content_json(variant.scene));
     variant.reference_key = hash_json({{"scene_hash", variant.scene_hash},
                                        {"overrides", variant.overrides},
                                        {"reference", experiment.reference_params.to_json()}});

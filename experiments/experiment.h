@@ -45,6 +45,11 @@ struct SceneVariant {
   std::string reference_key;
   std::string scene_path;    // the experiment's scene, or the variant's own `scene`
   std::string scene_hash;    // of that file's text: it enters the reference's and the runs' keys
+  // Of what the loaded scene holds (scene_content_json: every object and light, with the content of its
+  // mesh and environment map). Not in any key (shipped keys stay), but stored with each reference frame:
+  // a frame whose assets changed since (a mesh or map edited in place) is computed again, and the runs
+  // measured against the old copy are measured again (reference_cache.cpp).
+  std::string content_hash;
 };
 
 struct Experiment {

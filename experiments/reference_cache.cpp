@@ -53,13 +53,21 @@ std::optional<nlohmann::json> read_frame_record(const fs::path& path, int frame,
 }
 
 // A frame is stored once its record is: the record is written last and names its images' checksums.
-StoredFrame find_stored_frame(const fs::path& folder, int frame, const GBuffer& gbuffer) {
+// `content_hash` is the variant's (SceneVariant::content_hash): the key hashes the scene file's text only,
+// so a mesh or environment map edited in place is caught here (frames stored before the field pass).
+StoredFrame find_stored_frame(const fs::path& folder, int frame, const GBuffer& gbuffer, const std::string& content_hash) {
   StoredFrame stored;
   const FrameFiles files = frame_files(folder, frame);
   if (!fs::exists(files.record)) return stored;
   stored.present = true;
   std::optional<nlohmann::json> record = read_frame_record(files.record, frame, stored.problem);
   if (!record) return stored;
+  if (record->contains("scene_content") && (*record)["scene_content"] != content_hash) {
+    stored.problem = fmt::format("{}: computed for other scene content (scene_content {}, now {}: a mesh or environment "
+                                 "map the scene names has changed since)",
+                                 files.record.string(), (*record)["scene_content"].dump(), content_hash);
+    return stored;
+  }
   std::optional<std::string> bytes = read_file_bytes(files.image.string());
   if (!bytes) {
     stored.problem = fmt::format("{}: missing or unreadable", files.image.string());
@@ -135,6 +143,7 @@ void compute_frame(const Experiment& experiment, const SceneVariant& variant, co
   nlohmann::json record = method->record();
   record["frame"] = frame;
   record["params"] = experiment.reference_params.to_json();
+  record["scene_content"] = variant.content_hash;
   record["image"] = content_checksum(image_bytes);
   record["image"]["file"] = files.image.filename().string();
   record["gbuffer"] = content_checksum(gbuffer_bytes);
@@ -199,7 +208,7 @@ VariantFrames variant_frames(const Experiment& experiment, const SceneVariant& v
   std::vector<int> missing;
   for (int frame : experiment.frames) {
     const PosedFrame& posed = *(frames.posed[frame] = std::make_unique<PosedFrame>(variant.scene, frame));
-    StoredFrame stored = find_stored_frame(folder, frame, posed.gbuffer);
+    StoredFrame stored = find_stored_frame(folder, frame, posed.gbuffer, variant.content_hash);
     if (stored.usable()) use_frame(frames, frame, std::move(stored.image), stored.record, std::move(stored.checksum));
     else missing.push_back(frame);
   }
@@ -214,7 +223,7 @@ VariantFrames variant_frames(const Experiment& experiment, const SceneVariant& v
   bool computed = false;
   for (int frame : missing) {
     // Looked at again under the lock: the process we waited for may have stored it.
-    StoredFrame stored = find_stored_frame(folder, frame, frames.posed.at(frame)->gbuffer);
+    StoredFrame stored = find_stored_frame(folder, frame, frames.posed.at(frame)->gbuffer, variant.content_hash);
     if (stored.usable()) {
       use_frame(frames, frame, std::move(stored.image), stored.record, std::move(stored.checksum));
       continue;
@@ -246,6 +255,16 @@ std::optional<nlohmann::json> stored_reference_checksums(const ResultPaths& path
     checksums[files.image.filename().string()] = checksum;
   }
   return checksums;
+}
+
+bool stored_reference_content_differs(const ResultPaths& paths, const SceneVariant& variant, const std::vector<int>& frames) {
+  for (int frame : frames) {
+    std::string problem;
+    std::optional<nlohmann::json> record =
+        read_frame_record(frame_files(paths.reference(variant.reference_key), frame).record, frame, problem);
+    if (record && record->contains("scene_content") && (*record)["scene_content"] != variant.content_hash) return true;
+  }
+  return false;
 }
 
 nlohmann::json reference_fields(const VariantFrames& frames, const std::vector<int>& experiment_frames) {

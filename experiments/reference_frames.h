@@ -48,6 +48,11 @@ VariantFrames variant_frames(const Experiment& experiment, const SceneVariant& v
 std::optional<nlohmann::json> stored_reference_checksums(const ResultPaths& paths, const std::string& reference_key,
                                                          const std::vector<int>& frames);
 
+// True when a stored frame of the variant's reference was computed for other scene content than the
+// variant's now (its record's scene_content differs from SceneVariant::content_hash: a mesh or environment
+// map edited in place). variant_frames computes such a frame again; the runs stored against it are due.
+bool stored_reference_content_differs(const ResultPaths& paths, const SceneVariant& variant, const std::vector<int>& frames);
+
 // The fields a run record gets about the reference it was measured against: reference_images (as
 // above), reference_converged and, when not converged, reference_unconverged (the first frame's reason).
 nlohmann::json reference_fields(const VariantFrames& frames, const std::vector<int>& experiment_frames);

@@ -21,11 +21,19 @@ class ReferenceChecksums {
                                                               experiment_.frames)).first;
     return it->second;
   }
+  bool content_differs(size_t variant) {
+    auto it = content_differs_.find(variant);
+    if (it == content_differs_.end())
+      it = content_differs_.emplace(variant, stored_reference_content_differs(paths_, experiment_.variants.at(variant),
+                                                                              experiment_.frames)).first;
+    return it->second;
+  }
 
  private:
   const Experiment& experiment_;
   const ResultPaths& paths_;
   std::map<size_t, std::optional<nlohmann::json>> cache_;
+  std::map<size_t, bool> content_differs_;
 };
 
 // Whether a stored run was measured against another copy of its reference than `stored_checksums`
@@ -60,7 +68,14 @@ RunSelection select_runs(const Experiment& experiment, const RunOptions& options
       const std::optional<nlohmann::json>& checksums = references.of(run.variant);
       bool other_copy = checksums && measured_against_another_copy(stored, *checksums);
       if (other_copy) warn_other_copy(experiment, run);
-      to_do = options.force || other_copy;
+      // Its reference was computed for other scene content (an asset edited in place): that reference is
+      // computed again before the runs, and this run is measured against the new one.
+      bool content_changed = !other_copy && references.content_differs(run.variant);
+      if (content_changed)
+        fmt::print(stderr, "warning: run {} ({}) was measured against a reference computed for other scene content (a "
+                   "mesh or environment map the scene names has changed since); measuring the run again\n",
+                   run.label, run.key);
+      to_do = options.force || other_copy || content_changed;
       pending = {&run, to_do, stored.record_hash};
       if (!checksums && !to_do) selection.unverified.push_back({&run, std::move(stored)});
     }

@@ -9,7 +9,9 @@
 #include <filesystem>
 #include <map>
 #include <set>
+#include <sstream>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "core/files.h"
@@ -506,6 +508,49 @@ TEST(Corruption, ARunMeasuredAgainstAnotherCopyOfItsReferenceIsMeasuredAgain) {
   EXPECT_NE(rerun.output.find("was measured against another copy of reference"), std::string::npos) << rerun.output;
   EXPECT_EQ(runs_now(rerun.output), 1) << rerun.output;
   expect_complete(experiment, folder.results);
+}
+
+// A mesh the scene names, edited in place, leaves the scene file's text and so every key as they were:
+// the reference stored with the old mesh is computed again (its record holds the scene's content hash),
+// and the run measured against the old copy is measured again.
+TEST(Corruption, AnEditedMeshComputesItsReferenceAndRunsAgain) {
+  // A glass octahedron of half-diagonal `size` at the sphere's place.
+  auto octahedron = [](double size) {
+    std::string text;
+    for (const char* corner : {"1 0 0", "-1 0 0", "0 1 0", "0 -1 0", "0 0 1", "0 0 -1"}) {
+      std::istringstream in(corner);
+      double x, y, z;
+      in >> x >> y >> z;
+      text += fmt::format("v {} {} {}\n", x * size, y * size + 0.6, z * size);
+    }
+    return text + "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+  };
+  StoreFolder folder("edited_mesh");
+  folder.write("gem.obj", octahedron(0.4));
+  folder.write("scene.yaml", causticbench::testing::replace_once(
+                                 causticbench::testing::replace_once(causticbench::testing::kSmallGlassSphere,
+                                                                     "resolution: [40, 40]", "resolution: [16, 16]"),
+                                 "shape: {type: sphere, radius: 0.4}", "shape: {type: mesh, asset: gem.obj, smooth_normals: false}"));
+  const Experiment before = folder.experiment();
+  Finished first = folder.run();
+  ASSERT_EQ(first.code, 0) << first.output;
+  EXPECT_EQ(runs_now(first.output), 1) << first.output;
+  const fs::path reference = ResultPaths{folder.results}.reference(before.variants[0].reference_key);
+  EXPECT_EQ(nlohmann::json::parse(read_all(reference / "record_0000.json"))["scene_content"], before.variants[0].content_hash);
+  Finished unchanged = folder.run();
+  EXPECT_EQ(runs_now(unchanged.output), 0) << unchanged.output;
+
+  folder.write("gem.obj", octahedron(0.3));
+  const Experiment after = folder.experiment();
+  ASSERT_EQ(after.variants[0].reference_key, before.variants[0].reference_key) << "the keys hash the scene file's text";
+  ASSERT_EQ(after.runs[0].key, before.runs[0].key);
+  ASSERT_NE(after.variants[0].content_hash, before.variants[0].content_hash);
+  Finished edited = folder.run();
+  ASSERT_EQ(edited.code, 0) << edited.output;
+  EXPECT_NE(edited.output.find("computed for other scene content"), std::string::npos) << edited.output;
+  EXPECT_EQ(runs_now(edited.output), 1) << edited.output;
+  EXPECT_EQ(nlohmann::json::parse(read_all(reference / "record_0000.json"))["scene_content"], after.variants[0].content_hash);
+  expect_complete(after, folder.results);
 }
 
 // ---------------------------------------------------------------------------------------------------
