@@ -21,12 +21,7 @@ using causticbench::testing::scene_from_yaml;
 
 namespace {
 
-ParamSet csl_build_knobs(const std::vector<std::string>& knobs) {
-  const MethodEntry& entry = find_method("csl");
-  ParamDict dict;
-  for (const std::string& knob : knobs) dict.set_assignment(knob, "test");
-  return split_phases(dict.resolve(entry.info().params, "csl"), entry.info().params).build;
-}
+ParamSet csl_build_knobs(const std::vector<std::string>& knobs) { return causticbench::testing::method_knobs("csl", knobs).build; }
 
 // The glass sphere of the small test scene alone in its build space, with everything a build needs.
 struct SphereBuild {
@@ -238,10 +233,8 @@ TEST(CslTracking, ASetMatchesItself) {
 // made for that very direction. Measured (64x64, 128 rays a side, reference 6 x 200,000 photons): see
 // the printout; bounds about twice the differences.
 TEST(CslDynamic, GlassSphereUnderATurningLight) {
-  const std::string animated = replace_once(
-      replace_once(kSmallGlassSphere, "resolution: [40, 40]", "resolution: [64, 64]"), "direction: [0.3, -1, 0.2], irradiance: 1",
-      "direction: [0.3, -1, 0.2], irradiance: 1, animation: {keyframes: [{frame: 0, direction: [0.3, -1, 0.2]}, {frame: 1, direction: [-0.1, -1, 0.1]}]}");
-  const Scene moving = scene_from_yaml("frames: 2\n" + animated);
+  const Scene moving = scene_from_yaml(causticbench::testing::small_glass_sphere_turning(
+      replace_once(kSmallGlassSphere, "resolution: [40, 40]", "resolution: [64, 64]")));
   const MethodEntry& entry = find_method("csl");
   std::unique_ptr<CausticMethod> method = entry.create();
   ParamDict dict;
@@ -286,10 +279,7 @@ TEST(CslDynamic, GlassSphereUnderATurningLight) {
 // The build cache keeps a dynamic build exactly: a loaded one renders frame 1 bit for bit as the
 // computed one, and the record is the same; the camera does not enter its key, the frames' facets do.
 TEST(CslDynamic, ALoadedDynamicBuildRendersIdentically) {
-  const std::string animated = replace_once(
-      kSmallGlassSphere, "direction: [0.3, -1, 0.2], irradiance: 1",
-      "direction: [0.3, -1, 0.2], irradiance: 1, animation: {keyframes: [{frame: 0, direction: [0.3, -1, 0.2]}, {frame: 1, direction: [-0.1, -1, 0.1]}]}");
-  const Scene moving = scene_from_yaml("frames: 2\n" + animated);
+  const Scene moving = scene_from_yaml(causticbench::testing::small_glass_sphere_turning());
   const MethodEntry& entry = find_method("csl");
   ParamDict dict;
   for (const char* knob : {"rays_per_side=48", "tracking_rays_per_side=16", "tracking_steps=2", "precision=uint16"}) {
@@ -315,7 +305,8 @@ TEST(CslDynamic, ALoadedDynamicBuildRendersIdentically) {
   EXPECT_EQ(records[0], records[1]);
   // Another camera: the same key; frames whose light stays put: another (static sets).
   std::unique_ptr<CausticMethod> probe = entry.create();
-  const Scene other_camera = scene_from_yaml("frames: 2\n" + replace_once(animated, "position: [0, 2.0, 2.0]", "position: [1, 2.5, 1.0]"));
+  const Scene other_camera = scene_from_yaml(causticbench::testing::small_glass_sphere_turning(
+      replace_once(kSmallGlassSphere, "position: [0, 2.0, 2.0]", "position: [1, 2.5, 1.0]")));
   const RestPose other_rest(other_camera, {0, 1});
   EXPECT_EQ(probe->build_dependencies(other_rest.context(), knobs.build), probe->build_dependencies(rest.context(), knobs.build));
   const RestPose one_frame(moving, {1});

@@ -25,12 +25,7 @@ using causticbench::testing::scene_from_yaml;
 
 namespace {
 
-PhaseKnobs csl_knobs(const std::vector<std::string>& knobs) {
-  const MethodEntry& entry = find_method("csl");
-  ParamDict dict;
-  for (const std::string& knob : knobs) dict.set_assignment(knob, "test");
-  return split_phases(dict.resolve(entry.info().params, "csl"), entry.info().params);
-}
+PhaseKnobs csl_knobs(const std::vector<std::string>& knobs) { return causticbench::testing::method_knobs("csl", knobs); }
 
 double counter(const CausticMethod& method, const std::string& name) {
   for (const auto& [key, value] : method.counters()) {
@@ -110,11 +105,7 @@ TEST(CslCull, TheGlassSphereIsTheSameBitForBit) {
 
 // A dynamic light's interpolated frame: blended images, whose support is their sources'.
 TEST(CslCull, AnInterpolatedFrameIsTheSameBitForBit) {
-  const std::string animated = replace_once(
-      kSmallGlassSphere, "direction: [0.3, -1, 0.2], irradiance: 1",
-      "direction: [0.3, -1, 0.2], irradiance: 1, animation: {keyframes: [{frame: 0, direction: [0.3, -1, 0.2]}, {frame: 1, "
-      "direction: [-0.1, -1, 0.1]}]}");
-  const Scene moving = scene_from_yaml("frames: 2\n" + animated);
+  const Scene moving = scene_from_yaml(causticbench::testing::small_glass_sphere_turning());
   const PhaseKnobs knobs = csl_knobs({"rays_per_side=48", "image_size=128", "tracking_rays_per_side=16", "tracking_steps=2"});
   std::unique_ptr<CausticMethod> method = find_method("csl").create();
   const RestPose rest(moving, {0, 1});

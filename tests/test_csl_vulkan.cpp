@@ -38,12 +38,7 @@ std::string no_vulkan_device() {
     GTEST_SKIP() << "no Vulkan device for csl's backend: vulkan: " << why;            \
   }
 
-PhaseKnobs csl_knobs(const std::vector<std::string>& knobs) {
-  const MethodEntry& entry = find_method("csl");
-  ParamDict dict;
-  for (const std::string& knob : knobs) dict.set_assignment(knob, "test");
-  return split_phases(dict.resolve(entry.info().params, "csl"), entry.info().params);
-}
+PhaseKnobs csl_knobs(const std::vector<std::string>& knobs) { return causticbench::testing::method_knobs("csl", knobs); }
 
 // The agreement bounds of csl's dump format (methods/csl/frame_replay.cpp), which gpu-compare applies:
 // relMSE over the receivers and the ratio of total flux. Their reason: docs/gpu.md, "The csl format".
@@ -107,11 +102,7 @@ TEST(CslVulkan, AgreesWithTheCpuOnTheGlassSphere) {
 // interpolation of triples, whose images the kernel blends from up to three turned sources.
 TEST(CslVulkan, AgreesWithTheCpuOnAnInterpolatedFrame) {
   SKIP_WITHOUT_VULKAN();
-  const std::string animated = replace_once(
-      kSmallGlassSphere, "direction: [0.3, -1, 0.2], irradiance: 1",
-      "direction: [0.3, -1, 0.2], irradiance: 1, animation: {keyframes: [{frame: 0, direction: [0.3, -1, 0.2]}, {frame: 1, "
-      "direction: [-0.1, -1, 0.1]}]}");
-  const Scene moving = scene_from_yaml("frames: 2\n" + animated);
+  const Scene moving = scene_from_yaml(causticbench::testing::small_glass_sphere_turning());
   const PhaseKnobs knobs = csl_knobs({"rays_per_side=48", "image_size=128", "tracking_rays_per_side=16", "tracking_steps=2"});
   std::unique_ptr<CausticMethod> method = find_method("csl").create();
   const RestPose rest(moving, {0, 1});

@@ -111,6 +111,19 @@ std::string replace_once(std::string text, const std::string& from, const std::s
   return text.replace(at, from.size(), to);
 }
 
+std::string small_glass_sphere_turning(const std::string& scene) {
+  return "frames: 2\n" + replace_once(scene, "direction: [0.3, -1, 0.2], irradiance: 1",
+                                       "direction: [0.3, -1, 0.2], irradiance: 1, animation: {keyframes: [{frame: 0, "
+                                       "direction: [0.3, -1, 0.2]}, {frame: 1, direction: [-0.1, -1, 0.1]}]}");
+}
+
+PhaseKnobs method_knobs(const std::string& method, const std::vector<std::string>& knobs) {
+  const MethodEntry& entry = find_method(method);
+  ParamDict dict;
+  for (const std::string& knob : knobs) dict.set_assignment(knob, "test");
+  return split_phases(dict.resolve(entry.info().params, method), entry.info().params);
+}
+
 std::string tiny_experiment(const std::string& text, int resolution) {
   const std::string size = std::to_string(resolution);
   return replace_lines(

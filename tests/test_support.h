@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "methods/lifecycle.h"
 #include "methods/method_runner.h"
 
 namespace causticbench::testing {
@@ -41,6 +42,14 @@ std::string replace_lines(std::string text, const std::vector<std::pair<std::str
 // repetition (its `overrides`, `reference` and `repetitions`, each a one-line value or a block of
 // indented lines, replaced): what every tiny copy of a shipped experiment starts from.
 std::string tiny_experiment(const std::string& text, int resolution);
+
+// `scene` (a variant of kSmallGlassSphere's text) over two frames, its sun turning from (0.3, -1, 0.2) at
+// frame 0 to (-0.1, -1, 0.1) at frame 1, a direction on no precomputed one: the dynamic-light scene of the
+// csl tests.
+std::string small_glass_sphere_turning(const std::string& scene = kSmallGlassSphere);
+
+// `method`'s knobs from "name=value" assignments, resolved against its specs and split by phase.
+PhaseKnobs method_knobs(const std::string& method, const std::vector<std::string>& knobs);
 
 // The shipped experiment files (configs/experiments/*.yaml) whose names start with `prefix`, sorted.
 std::vector<std::filesystem::path> shipped_experiments(const std::string& prefix);
