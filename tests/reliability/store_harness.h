@@ -1,7 +1,7 @@
-// What tests/test_reliability_store.cpp drives and inspects the results store with: `causticbench`
-// processes started with their own environment (CAUSTICBENCH_FAULT_INJECT) and output file, run two at a
-// time, and the reader's view of a results folder: what a reader would find half written, and what a
-// killed process left that the next run must clean up.
+// What tests/test_reliability_store.cpp and test_reliability_references.cpp drive and inspect the results
+// store with: `causticbench` processes started with their own environment (CAUSTICBENCH_FAULT_INJECT) and
+// output file, run two at a time, and the reader's view of a results folder: what a reader would find
+// half written, and what a killed process left that the next run must clean up.
 #pragma once
 
 #include <fcntl.h>
