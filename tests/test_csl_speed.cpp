@@ -86,6 +86,17 @@ void expect_speedups_change_nothing(CausticMethod& method, const PosedFrame& fra
   }
 }
 
+// A spot light of `profile` off the origin, its axis tilted, with the `size` x `size` uint16 image `values`.
+SpotLight tilted_spot_light(const Profile& profile, int size, const std::vector<float>& values) {
+  SpotLight light;
+  light.origin = Vec3(0.1f, -0.2f, 0.05f);
+  light.axis = glm::normalize(Vec3(0.2f, 0.1f, 1.0f));
+  set_plane_axes(light);
+  light.profile = profile;
+  light.image = IntensityImage(size, 1, 1.0f, values, IntensityImage::Precision::uint16);
+  return light;
+}
+
 }  // namespace
 
 // The glass sphere under a static light: its several spot lights, each culled to its own frustum.
@@ -130,12 +141,7 @@ TEST(CslCull, NoLitPointIsCulled) {
   }
   size_t lit = 0, dark = 0, culled = 0;
   for (const Profile& profile : profiles) {
-    SpotLight light;
-    light.origin = Vec3(0.1f, -0.2f, 0.05f);
-    light.axis = glm::normalize(Vec3(0.2f, 0.1f, 1.0f));
-    set_plane_axes(light);
-    light.profile = profile;
-    light.image = IntensityImage(size, 1, 1.0f, values, IntensityImage::Precision::uint16);
+    const SpotLight light = tilted_spot_light(profile, size, values);
     ASSERT_LT(light.image.support_radius(), 0.8 * light.image.max_radius());
     const SpotReach reach(light, light.image.support_radius());
     EvaluationSettings settings;
@@ -178,12 +184,7 @@ TEST(CslLanes, AgreeWithTheScalarEvaluationPointByPoint) {
   size_t compared = 0, lit = 0, identical = 0;
   double largest = 0.0;
   for (const Profile& profile : profiles) {
-    SpotLight light;
-    light.origin = Vec3(0.1f, -0.2f, 0.05f);
-    light.axis = glm::normalize(Vec3(0.2f, 0.1f, 1.0f));
-    set_plane_axes(light);
-    light.profile = profile;
-    light.image = IntensityImage(size, 1, 1.0f, values, IntensityImage::Precision::uint16);
+    const SpotLight light = tilted_spot_light(profile, size, values);
     for (const bool correction : {true, false}) {
       for (const OnAxis on_axis : {OnAxis::integrate, OnAxis::epsilon}) {
         EvaluationSettings settings;
