@@ -52,6 +52,12 @@ std::optional<nlohmann::json> read_frame_record(const fs::path& path, int frame,
   return record;
 }
 
+// Whether a frame record names other scene content than `content_hash` (records written before the field
+// name none and pass).
+bool computed_for_other_content(const nlohmann::json& record, const std::string& content_hash) {
+  return record.contains("scene_content") && record["scene_content"] != content_hash;
+}
+
 // A frame is stored once its record is: the record is written last and names its images' checksums.
 // `content_hash` is the variant's (SceneVariant::content_hash): the key hashes the scene file's text only,
 // so a mesh or environment map edited in place is caught here (frames stored before the field pass).
@@ -62,7 +68,7 @@ StoredFrame find_stored_frame(const fs::path& folder, int frame, const GBuffer& 
   stored.present = true;
   std::optional<nlohmann::json> record = read_frame_record(files.record, frame, stored.problem);
   if (!record) return stored;
-  if (record->contains("scene_content") && (*record)["scene_content"] != content_hash) {
+  if (computed_for_other_content(*record, content_hash)) {
     stored.problem = fmt::format("{}: computed for other scene content (scene_content {}, now {}: a mesh or environment "
                                  "map the scene names has changed since)",
                                  files.record.string(), (*record)["scene_content"].dump(), content_hash);
@@ -262,7 +268,7 @@ bool stored_reference_content_differs(const ResultPaths& paths, const SceneVaria
     std::string problem;
     std::optional<nlohmann::json> record =
         read_frame_record(frame_files(paths.reference(variant.reference_key), frame).record, frame, problem);
-    if (record && record->contains("scene_content") && (*record)["scene_content"] != variant.content_hash) return true;
+    if (record && computed_for_other_content(*record, variant.content_hash)) return true;
   }
   return false;
 }
