@@ -63,6 +63,61 @@ void bound(const Vec3* points, size_t count, glm::dvec3& center, double& radius)
   radius *= 1.0 + 1e-12;
 }
 
+// How one object's spot lights are evaluated at a group's points: the vector lanes (`vector`), or one
+// point at a time, with shadow rays through `shadow_tracer` where it is set (occlusion: shadow_rays).
+struct GroupEvaluation {
+  const EvaluationSettings& settings;
+  bool vector = true;
+  const Tracer* shadow_tracer = nullptr;
+  glm::mat3 to_world{1.0f};  // the object's build-space vectors to world ones, and its map's offset
+  Vec3 offset{0.0f};
+  int object = -1;
+
+  // Adds to total[j] what `spot` sends to point j of `group` (`rays`: the lanes' scratch space).
+  void add(const FrameSpot& spot, const Group& group, TileRays& rays, Color* total) const {
+    if (vector) tile_rays(spot.lanes, group.tile, rays);
+    for (size_t j = 0; j < group.count; ++j) {
+      float value[3] = {0.0f, 0.0f, 0.0f};
+      if (vector) {
+        const Vec3& point = group.point[j];
+        const Vec3& normal = group.normal[j];
+        if (spot.stored) {
+          tile_value(*spot.stored, StoredImage(spot.stored->image), rays, j, point, normal, group.footprint[j],
+                     settings, value);
+        } else {
+          tile_value(*spot.interpolated, spot.interpolated->image, rays, j, point, normal, group.footprint[j],
+                     settings, value);
+        }
+      } else {
+        // occlusion: shadow_rays: a ray's light reaches the point unless the path back towards
+        // its light plane point meets another object before the caustic object itself (or the plane).
+        const Vec3 world_point = group.world_point[j], world_normal = group.world_normal[j];
+        auto visible = [&](const glm::dvec3& travel, const glm::dvec3& from) {
+          const Vec3 from_world = to_world * (Vec3(from) - offset);
+          const Vec3 towards = glm::normalize(-(to_world * Vec3(travel)));
+          const float side = glm::dot(world_normal, towards) >= 0.0f ? 1.0f : -1.0f;
+          Ray ray;
+          ray.origin = world_point + (side * shadow_tracer->epsilon()) * world_normal;
+          ray.direction = towards;
+          ray.t_max = glm::length(from_world - ray.origin);
+          SurfaceHit hit;
+          return !shadow_tracer->intersect(ray, hit) || hit.object == object;
+        };
+        auto evaluate = [&](const auto& light) {
+          if (shadow_tracer != nullptr) {
+            light.evaluate(group.point[j], group.normal[j], group.footprint[j], settings, value, visible);
+          } else {
+            light.evaluate(group.point[j], group.normal[j], group.footprint[j], settings, value);
+          }
+        };
+        spot.stored ? evaluate(*spot.stored) : evaluate(*spot.interpolated);
+      }
+      const Color added = spot.channels == 1 ? Color(value[0]) : Color(value[0], value[1], value[2]);
+      total[j] += added * spot.irradiance;
+    }
+  }
+};
+
 }  // namespace
 
 Image CslMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
@@ -125,6 +180,8 @@ Image CslMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
           const std::vector<FrameSpot>& spots = spots_of[i];
           if (spots.empty()) continue;
           const EvaluationSettings& settings = settings_of[i];
+          const GroupEvaluation evaluation{settings, vector, shadow_rays ? tracer_ : nullptr, view.to_world,
+                                           view.map.offset, objects_[i].object};
           // The square's points in the object's build space, in groups of up to eight.
           groups.assign((square_pixels.size() + kTilePoints - 1) / kTilePoints, Group{});
           square_points.clear();
@@ -161,46 +218,7 @@ Image CslMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
               const FrameSpot& spot = spots[s];
               if (cull && !spot.reach.may_reach(group.center, group.radius, group.near_axis)) continue;
               count += static_cast<double>(group.count);
-              if (vector) tile_rays(spot.lanes, group.tile, rays);
-              for (size_t j = 0; j < group.count; ++j) {
-                float value[3] = {0.0f, 0.0f, 0.0f};
-                if (vector) {
-                  const Vec3& point = group.point[j];
-                  const Vec3& normal = group.normal[j];
-                  if (spot.stored) {
-                    tile_value(*spot.stored, StoredImage(spot.stored->image), rays, j, point, normal, group.footprint[j],
-                               settings, value);
-                  } else {
-                    tile_value(*spot.interpolated, spot.interpolated->image, rays, j, point, normal, group.footprint[j],
-                               settings, value);
-                  }
-                } else {
-                  // occlusion: shadow_rays: a ray's light reaches the point unless the path back towards
-                  // its light plane point meets another object before the caustic object itself (or the plane).
-                  const Vec3 world_point = group.world_point[j], world_normal = group.world_normal[j];
-                  auto visible = [&](const glm::dvec3& travel, const glm::dvec3& from) {
-                    const Vec3 from_world = view.to_world * (Vec3(from) - view.map.offset);
-                    const Vec3 towards = glm::normalize(-(view.to_world * Vec3(travel)));
-                    const float side = glm::dot(world_normal, towards) >= 0.0f ? 1.0f : -1.0f;
-                    Ray ray;
-                    ray.origin = world_point + (side * tracer_->epsilon()) * world_normal;
-                    ray.direction = towards;
-                    ray.t_max = glm::length(from_world - ray.origin);
-                    SurfaceHit hit;
-                    return !tracer_->intersect(ray, hit) || hit.object == objects_[i].object;
-                  };
-                  auto evaluate = [&](const auto& light) {
-                    if (shadow_rays) {
-                      light.evaluate(group.point[j], group.normal[j], group.footprint[j], settings, value, visible);
-                    } else {
-                      light.evaluate(group.point[j], group.normal[j], group.footprint[j], settings, value);
-                    }
-                  };
-                  spot.stored ? evaluate(*spot.stored) : evaluate(*spot.interpolated);
-                }
-                const Color added = spot.channels == 1 ? Color(value[0]) : Color(value[0], value[1], value[2]);
-                total[j] += added * spot.irradiance;
-              }
+              evaluation.add(spot, group, rays, total);
             }
             for (size_t j = 0; j < group.count; ++j) {
               const size_t pixel = group.pixel[j];
