@@ -335,12 +335,16 @@ std::vector<LightView> LpiMethod::environment_reads(const EnvironmentState& stat
 
 Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
   Image result(gbuffer.width, gbuffer.height, 3);
+  // environment_clamp: per_sample: every lit sample as a light of its own, so that each is clamped alone.
+  std::vector<std::vector<LightView>> per_sample(objects_.size());
+  for (size_t i = 0; i < objects_.size(); ++i)
+    if (environment_[i].active && environment_[i].per_sample) per_sample[i] = environment_reads(environment_[i]);
   // Counted from the frame's plan, not in the per-pixel loop: each receiver point reads each light's
   // samples (one coefficient stencil for storage: sh) of every object.
   size_t reads_per_point = 0;
   for (size_t i = 0; i < frame_.size(); ++i) {
     for (const lpi::LightView& light : frame_[i].lights) reads_per_point += light.harmonics.empty() ? light.reads.count : 1;
-    if (environment_[i].active) reads_per_point += environment_[i].per_sample ? environment_reads(environment_[i]).size() : 1;
+    if (environment_[i].active) reads_per_point += environment_[i].per_sample ? per_sample[i].size() : 1;
   }
   volume_reads_ = static_cast<double>(gbuffer.receiver_count()) * static_cast<double>(reads_per_point);
   const Outside mode = outside_mode(render);
@@ -355,10 +359,6 @@ Image LpiMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
   environment_light.irradiance = Color(1.0f);
   environment_light.reads.count = 1;
   environment_light.reads.reads[0] = SampleRead{0, 1.0f, false, glm::mat3(1.0f)};
-  // environment_clamp: per_sample: every lit sample as a light of its own, so that each is clamped alone.
-  std::vector<std::vector<LightView>> per_sample(objects_.size());
-  for (size_t i = 0; i < objects_.size(); ++i)
-    if (environment_[i].active && environment_[i].per_sample) per_sample[i] = environment_reads(environment_[i]);
   parallel_blocks(gbuffer.pixel_count(), 1024, [&](size_t begin, size_t end, size_t) {
     for (size_t i = 0; i < objects_.size(); ++i) {
       const VolumeLayout& layout = *objects_[i].layout;
