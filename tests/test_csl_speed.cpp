@@ -1,7 +1,8 @@
 // The CPU backend's speed-ups of csl's evaluation and what they must not change: the cull (render knob
 // `cull`, methods/csl/spot_reach.h) leaves the image the same bit for bit while it skips pairs, and the
 // vector lanes (render knob `lanes`, methods/csl/evaluation_lanes.h) agree with the scalar evaluation,
-// per point on spot lights of every kind of profile and on whole frames. Their speed is measured by a
+// per point on spot lights of every kind of profile and on whole frames, and the gathered lookups
+// (methods/csl/tile_lookup.h) agree with the one-by-one lookups bit for bit. Their speed is measured by a
 // command in methods/csl/README.md, not here.
 #include <cmath>
 #include <cstring>
@@ -13,6 +14,7 @@
 #include "methods/csl/evaluation_lanes.h"
 #include "methods/csl/spot_light.h"
 #include "methods/csl/spot_reach.h"
+#include "methods/csl/tile_lookup.h"
 #include "methods/lifecycle.h"
 #include "methods/registry.h"
 #include "tests/test_support.h"
@@ -225,4 +227,71 @@ TEST(CslLanes, AgreeWithTheScalarEvaluationPointByPoint) {
   }
   std::printf("%zu points (%zu lit): %zu identical, largest relative difference %.3g\n", compared, lit, identical, largest);
   EXPECT_GT(lit, compared / 4);  // most points are lit: the comparison is not of zeros
+}
+
+// The gathered lookups (tile_lookup.h) against tile_value's one ray at a time, bit for bit, on uint16 and
+// float32 images lit up to their edges, so that rays land inside the texels, on the border squares
+// (the scalar lookup's lanes) and beyond the image, at points with and without near-axis lanes.
+TEST(CslLanes, GatheredLookupsAreTheSameBitForBit) {
+  if (!tile_lookups_apply(IntensityImage(2, 1, 1.0f, {1.0f, 1.0f, 1.0f, 1.0f}, IntensityImage::Precision::float32))) {
+    GTEST_SKIP() << "no AVX2";
+  }
+  const std::vector<Profile> profiles = {{0.8, 0.5}, {0.0, 0.0}, {-1.5, 0.0}, {2.0, 3.0}};
+  std::mt19937 random(17);
+  std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
+  const int size = 32;
+  std::vector<float> values(size * size);
+  for (int j = 0; j < size; ++j) {
+    for (int i = 0; i < size; ++i) values[j * size + i] = 1.0f + 0.37f * ((i * 7 + j * 13) % 11);
+  }
+  size_t compared = 0, lit = 0, differing = 0, border = 0, beyond = 0;
+  for (const IntensityImage::Precision precision : {IntensityImage::Precision::uint16, IntensityImage::Precision::float32}) {
+    for (const Profile& profile : profiles) {
+      SpotLight light = tilted_spot_light(profile, size, values);
+      light.image = IntensityImage(size, 1, 1.0f, values, precision);
+      EvaluationSettings settings;
+      settings.axis_epsilon = 0.02;
+      const LightLanes lanes = light_lanes(light, light.image.max_radius(), true);
+      for (int tile_index = 0; tile_index < 400; ++tile_index) {
+        Vec3 points[kTilePoints], normals[kTilePoints];
+        float footprints[kTilePoints];
+        const size_t count = 1 + tile_index % kTilePoints;
+        for (size_t j = 0; j < count; ++j) {
+          const float height = 1.5f * uniform(random) + 1.0f, spread = tile_index % 7 == 0 ? 0.02f : 2.5f;
+          points[j] = light.origin + height * light.axis + spread * uniform(random) * light.u + spread * uniform(random) * light.v;
+          normals[j] = glm::normalize(Vec3(uniform(random), uniform(random), uniform(random)) - 0.8f * light.axis);
+          footprints[j] = 0.03f * (uniform(random) + 1.0f);
+        }
+        const PointTile tile = make_tile(points, normals, footprints, count, settings);
+        TileRays rays;
+        tile_rays(lanes, tile, rays);
+        float gathered[kTilePoints] = {};
+        tile_lookups(light.image, rays, count, gathered);
+        for (size_t j = 0; j < count; ++j) {
+          float one_by_one[3] = {0.0f, 0.0f, 0.0f};
+          if ((rays.near_axis >> j) & 1u) continue;  // the scalar evaluation, in both
+          tile_value(light, StoredImage(light.image), rays, j, points[j], normals[j], footprints[j], settings, one_by_one);
+          ++compared;
+          lit += one_by_one[0] > 0.0f;
+          differing += std::memcmp(&gathered[j], one_by_one, sizeof(float)) != 0;
+          EXPECT_EQ(gathered[j], one_by_one[0]) << "kappa " << profile.kappa << " beta " << profile.beta;
+          // Where the rays landed: on a border square (fx or fy in [-1, 0) or [size - 1, size)) or beyond.
+          for (int k = 0; k < TileRays::kCandidates; ++k) {
+            if (!((rays.ray[k] >> j) & 1u)) continue;
+            const float fx = (static_cast<float>(rays.x[k][j]) + 1.0f) * (size / 2.0f) - 0.5f;
+            const float fy = (static_cast<float>(rays.y[k][j]) + 1.0f) * (size / 2.0f) - 0.5f;
+            const bool outside = !(fx > -1.0f && fy > -1.0f && fx < size && fy < size);
+            beyond += outside;
+            border += !outside && (fx < 0.0f || fy < 0.0f || fx >= size - 1 || fy >= size - 1);
+          }
+        }
+      }
+    }
+  }
+  std::printf("%zu points (%zu lit): %zu differ; rays on border squares %zu, beyond the image %zu\n", compared, lit,
+              differing, border, beyond);
+  EXPECT_EQ(differing, 0u);
+  EXPECT_GT(lit, compared / 4);
+  EXPECT_GT(border, 20u);
+  EXPECT_GT(beyond, 20u);
 }

@@ -8,8 +8,9 @@
 // conservative (a culled pair's evaluation is exactly zero), and every pixel still adds its spot lights
 // in the same order, so the image is the same bit for bit as with `cull: off` (tested).
 // With `lanes: vector` (the default) a group's points go through the light's geometry four at a time
-// (evaluation_lanes.h) and only the rays that reach them are looked up, one by one; `lanes: scalar`
-// evaluates each point alone. Shadow rays (occlusion: shadow_rays) always take the scalar path.
+// (evaluation_lanes.h) and only the rays that reach them are looked up: eight at a time from a stored
+// one-channel image (tile_lookup.h), otherwise one by one; `lanes: scalar` evaluates each point alone.
+// Shadow rays (occlusion: shadow_rays) always take the scalar path.
 #include <algorithm>
 #include <cmath>
 
@@ -19,6 +20,7 @@
 #include "methods/csl/csl.h"
 #include "methods/csl/evaluation_lanes.h"
 #include "methods/csl/spot_reach.h"
+#include "methods/csl/tile_lookup.h"
 
 namespace causticbench {
 
@@ -37,6 +39,7 @@ struct FrameSpot {
   int channels = 1;
   SpotReach reach;
   LightLanes lanes;
+  bool gathered = false;  // a stored image tile_lookups reads (tile_lookup.h)
 };
 
 // A group's points as the evaluation reads them (build space, as the scalar loop computed them).
@@ -76,6 +79,18 @@ struct GroupEvaluation {
   // Adds to total[j] what `spot` sends to point j of `group` (`rays`: the lanes' scratch space).
   void add(const FrameSpot& spot, const Group& group, TileRays& rays, Color* total) const {
     if (vector) tile_rays(spot.lanes, group.tile, rays);
+    if (vector && spot.gathered) {
+      // A stored one-channel image: the rays' lookups eight at a time, then the near-axis points alone.
+      float value[kTilePoints] = {};
+      tile_lookups(spot.stored->image, rays, group.count, value);
+      for (size_t j = 0; j < group.count; ++j) {
+        if ((rays.near_axis >> j) & 1u) {
+          spot.stored->evaluate(group.point[j], group.normal[j], group.footprint[j], settings, &value[j]);
+        }
+        total[j] += Color(value[j]) * spot.irradiance;
+      }
+      return;
+    }
     for (size_t j = 0; j < group.count; ++j) {
       float value[3] = {0.0f, 0.0f, 0.0f};
       if (vector) {
@@ -145,6 +160,7 @@ Image CslMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
         spot.channels = image.channels();
         spot.reach = SpotReach(geometry, image.support_radius());
         spot.lanes = light_lanes(geometry, image.max_radius(), correction);
+        spot.gathered = stored != nullptr && tile_lookups_apply(stored->image);
         spots_of[i].push_back(spot);
       };
       if (light.set != nullptr) {
