@@ -99,6 +99,29 @@ SpotLight tilted_spot_light(const Profile& profile, int size, const std::vector<
   return light;
 }
 
+// A tile of 1 + tile_index % kTilePoints random points in front of `light`, within `spread` of its axis,
+// with normals facing any way but mostly towards the light and footprint radii up to 0.06.
+struct RandomTile {
+  size_t count = 0;
+  Vec3 points[kTilePoints], normals[kTilePoints];
+  float footprints[kTilePoints];
+  PointTile tile;
+};
+RandomTile random_tile(const SpotLight& light, const EvaluationSettings& settings, int tile_index, float spread,
+                       std::mt19937& random) {
+  std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
+  RandomTile made;
+  made.count = 1 + tile_index % kTilePoints;
+  for (size_t j = 0; j < made.count; ++j) {
+    const float height = 1.5f * uniform(random) + 1.0f;
+    made.points[j] = light.origin + height * light.axis + spread * uniform(random) * light.u + spread * uniform(random) * light.v;
+    made.normals[j] = glm::normalize(Vec3(uniform(random), uniform(random), uniform(random)) - 0.8f * light.axis);
+    made.footprints[j] = 0.03f * (uniform(random) + 1.0f);
+  }
+  made.tile = make_tile(made.points, made.normals, made.footprints, made.count, settings);
+  return made;
+}
+
 }  // namespace
 
 // The glass sphere under a static light: its several spot lights, each culled to its own frustum.
@@ -177,7 +200,6 @@ TEST(CslCull, NoLitPointIsCulled) {
 TEST(CslLanes, AgreeWithTheScalarEvaluationPointByPoint) {
   const std::vector<Profile> profiles = {{0.8, 0.5}, {0.8, 0.0}, {0.0, 0.0}, {-1.5, 0.0}, {2.0, 3.0}, {1e-9, 1e6}, {-0.7, 0.4}};
   std::mt19937 random(11);
-  std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
   const int size = 64;
   std::vector<float> values(size * size);
   for (int j = 0; j < size; ++j) {
@@ -195,23 +217,14 @@ TEST(CslLanes, AgreeWithTheScalarEvaluationPointByPoint) {
         settings.axis_epsilon = 0.02;
         const LightLanes lanes = light_lanes(light, light.image.max_radius(), correction);
         for (int tile_index = 0; tile_index < 200; ++tile_index) {
-          Vec3 points[kTilePoints], normals[kTilePoints];
-          float footprints[kTilePoints];
-          const size_t count = 1 + tile_index % kTilePoints;
-          for (size_t j = 0; j < count; ++j) {
-            // Mostly in front of the plane and within a few radii of the axis; some on the axis.
-            const float height = 1.5f * uniform(random) + 1.0f, spread = tile_index % 5 == 0 ? 0.01f : 2.0f;
-            points[j] = light.origin + height * light.axis + spread * uniform(random) * light.u + spread * uniform(random) * light.v;
-            normals[j] = glm::normalize(Vec3(uniform(random), uniform(random), uniform(random)) - 0.8f * light.axis);
-            footprints[j] = 0.03f * (uniform(random) + 1.0f);
-          }
-          const PointTile tile = make_tile(points, normals, footprints, count, settings);
+          // Mostly within a few radii of the axis; some on the axis.
+          const RandomTile t = random_tile(light, settings, tile_index, tile_index % 5 == 0 ? 0.01f : 2.0f, random);
           TileRays rays;
-          tile_rays(lanes, tile, rays);
-          for (size_t j = 0; j < count; ++j) {
+          tile_rays(lanes, t.tile, rays);
+          for (size_t j = 0; j < t.count; ++j) {
             float scalar[3] = {0.0f, 0.0f, 0.0f}, vector[3] = {0.0f, 0.0f, 0.0f};
-            light.evaluate(points[j], normals[j], footprints[j], settings, scalar);
-            tile_value(light, StoredImage(light.image), rays, j, points[j], normals[j], footprints[j], settings, vector);
+            light.evaluate(t.points[j], t.normals[j], t.footprints[j], settings, scalar);
+            tile_value(light, StoredImage(light.image), rays, j, t.points[j], t.normals[j], t.footprints[j], settings, vector);
             ++compared;
             lit += scalar[0] > 0.0f;
             identical += std::memcmp(scalar, vector, sizeof(float)) == 0;
@@ -238,7 +251,6 @@ TEST(CslLanes, GatheredLookupsAreTheSameBitForBit) {
   }
   const std::vector<Profile> profiles = {{0.8, 0.5}, {0.0, 0.0}, {-1.5, 0.0}, {2.0, 3.0}};
   std::mt19937 random(17);
-  std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
   const int size = 32;
   std::vector<float> values(size * size);
   for (int j = 0; j < size; ++j) {
@@ -253,24 +265,15 @@ TEST(CslLanes, GatheredLookupsAreTheSameBitForBit) {
       settings.axis_epsilon = 0.02;
       const LightLanes lanes = light_lanes(light, light.image.max_radius(), true);
       for (int tile_index = 0; tile_index < 400; ++tile_index) {
-        Vec3 points[kTilePoints], normals[kTilePoints];
-        float footprints[kTilePoints];
-        const size_t count = 1 + tile_index % kTilePoints;
-        for (size_t j = 0; j < count; ++j) {
-          const float height = 1.5f * uniform(random) + 1.0f, spread = tile_index % 7 == 0 ? 0.02f : 2.5f;
-          points[j] = light.origin + height * light.axis + spread * uniform(random) * light.u + spread * uniform(random) * light.v;
-          normals[j] = glm::normalize(Vec3(uniform(random), uniform(random), uniform(random)) - 0.8f * light.axis);
-          footprints[j] = 0.03f * (uniform(random) + 1.0f);
-        }
-        const PointTile tile = make_tile(points, normals, footprints, count, settings);
+        const RandomTile t = random_tile(light, settings, tile_index, tile_index % 7 == 0 ? 0.02f : 2.5f, random);
         TileRays rays;
-        tile_rays(lanes, tile, rays);
+        tile_rays(lanes, t.tile, rays);
         float gathered[kTilePoints] = {};
-        tile_lookups(light.image, rays, count, gathered);
-        for (size_t j = 0; j < count; ++j) {
+        tile_lookups(light.image, rays, t.count, gathered);
+        for (size_t j = 0; j < t.count; ++j) {
           float one_by_one[3] = {0.0f, 0.0f, 0.0f};
           if ((rays.near_axis >> j) & 1u) continue;  // the scalar evaluation, in both
-          tile_value(light, StoredImage(light.image), rays, j, points[j], normals[j], footprints[j], settings, one_by_one);
+          tile_value(light, StoredImage(light.image), rays, j, t.points[j], t.normals[j], t.footprints[j], settings, one_by_one);
           ++compared;
           lit += one_by_one[0] > 0.0f;
           differing += std::memcmp(&gathered[j], one_by_one, sizeof(float)) != 0;
