@@ -5,8 +5,8 @@
 // photons are deposited into the finest grid (2^depth cells a side, exactly as `storage: grid`),
 // then a subtree is collapsed into one leaf holding the volume mean of its finest cells (the
 // track-length estimate over the larger cell, no less unbiased) whenever every finest cell in it,
-// for every light sample and channel, lies within error_threshold x (that light sample's largest
-// value) of the mean. Two kinds of tree (`multires_tree`): one shared by all light samples (a cell
+// for every light sample the tree serves and every channel, lies within error_threshold x (that
+// light sample's largest value) of the mean. Two kinds of tree (`multires_tree`): one shared by all light samples (a cell
 // is refined if any light sample's caustic varies in it), or one per light sample (each refined only
 // where its own caustic varies; the sample's values are the leaves of its own tree, so the light
 // samples' blocks differ in size).
@@ -15,8 +15,9 @@
 // each centre taking the value of the leaf that contains it. The reconstruction is continuous
 // everywhere, and since the weights are convex it differs from the finest grid's lookup by at most
 // error_threshold x the light sample's largest value (error_threshold 0 reads exactly as the grid).
-// Per light sample, the eight finest centres are the same for every sample; only the leaves they fall
-// in differ, so a lookup makes the finest stencil once and maps it through each read sample's tree.
+// With a tree per light sample the eight finest centres are the same for every sample; only the
+// leaves they fall in differ, so a lookup makes the finest stencil once and maps it through each
+// read sample's tree.
 #pragma once
 
 #include <vector>
