@@ -30,7 +30,7 @@ const MethodInfo& CslMethod::static_info() {
         ParamSpec::real("raster_extent", 4.0, 1.0, 100.0,
                         "half the side of that grid's cube, in bounding radii of the object (the extended bounding volume)",
                         ParamPhase::build),
-        ParamSpec::real("distance_threshold", 0.1, 1e-6, 100.0,
+        ParamSpec::real("distance_threshold", 0.3, 1e-6, 100.0,
                         "largest distance between a ray's line and a bundle's axis, in bounding radii", ParamPhase::build),
         ParamSpec::real("angle_threshold", 90.0, 0.0, 90.0,
                         "largest angle between a ray and a bundle's axis, degrees (the paper's bundle definition: 90)",
