@@ -30,7 +30,7 @@ const MethodInfo& CslMethod::static_info() {
         ParamSpec::real("raster_extent", 4.0, 1.0, 100.0,
                         "half the side of that grid's cube, in bounding radii of the object (the extended bounding volume)",
                         ParamPhase::build),
-        ParamSpec::real("distance_threshold", 0.1, 1e-6, 100.0,
+        ParamSpec::real("distance_threshold", 0.3, 1e-6, 100.0,
                         "largest distance between a ray's line and a bundle's axis, in bounding radii", ParamPhase::build),
         ParamSpec::real("angle_threshold", 90.0, 0.0, 90.0,
                         "largest angle between a ray and a bundle's axis, degrees (the paper's bundle definition: 90)",
@@ -207,8 +207,9 @@ TrackingSettings csl::tracking_settings(const ParamSet& build, const BoundingSph
   settings.tree.min_energy = static_cast<float>(build.real("min_energy"));
   settings.bundle = generate_settings(build, bounds, 1.0).bundle;
   // A tracking step turns the light by a twentieth of an edge, so an axis moves little; and the axes
-  // of a complex object's bundles orbit without converging (methods/csl/bundles.cpp), which at the
-  // 100-step cap of bundle extraction made tracking the bunny's 480 edges cost hours. 20 steps a
+  // of a complex object's bundles may orbit without converging (methods/csl/bundles.cpp: the bunny's
+  // at the former distance_threshold 0.1), which at the 100-step cap of bundle extraction made
+  // tracking the bunny's 480 edges cost hours. 20 steps a
   // tracking step bound it.
   settings.bundle.max_iterations = 20;
   settings.match_distance = build.real("match_distance") * bounds.radius;
