@@ -139,6 +139,49 @@ objects:
   }
 }
 
+// Rotational alignment (Section 5.2, steps A to F) is exact for a sphere: turning a neighbouring
+// sample's volume about L x L_i by the angle between them gives the caustic of L itself. So with the
+// light at the centre of a geodesic triangle (about 18 degrees from each of its three light samples)
+// the aligned blend of 42 samples renders what one light sample exactly at the light renders, up to
+// the grid's resampling of the turned points, while the barycentric blend of the same three volumes
+// shows three displaced caustics (ghosting). Relative L1 against the exact sample, inside the sampled
+// ball, measured: aligned 0.193 (energy 0.949), barycentric 1.02. The aligned residual is the grid's
+// resampling, not photon noise: 0.184 at four times the photons, 0.076 at 64^3 (barycentric 1.09).
+TEST(Lpi, AlignedBlendIsExactForTheGlassSphere) {
+  const lpi::LightSampleSet set = lpi::geodesic_samples(1, lpi::SampleAt::vertices);
+  const Vec3 original_light = glm::normalize(Vec3(-0.3f, 1.0f, -0.2f));  // towards kSmallGlassSphere's light
+  Vec3 centre(0.0f);
+  float best = -2.0f;
+  for (const auto& corners : set.mesh->triangles()) {
+    const Vec3 centroid = glm::normalize(set.directions[corners[0]] + set.directions[corners[1]] + set.directions[corners[2]]);
+    if (glm::dot(centroid, original_light) > best) {
+      best = glm::dot(centroid, original_light);
+      centre = centroid;
+    }
+  }
+  const Scene scene = scene_from_yaml(replace_once(kSmallGlassSphere, "direction: [0.3, -1, 0.2]",
+                                                   fmt::format("direction: [{:.9g}, {:.9g}, {:.9g}]", -centre.x, -centre.y, -centre.z)));
+  const std::vector<uint8_t> mask = inside_volume(causticbench::testing::render(scene, "lpi", {"photons_per_sample=1"}).gbuffer,
+                                                  Vec3(0.0f, 0.6f, 0.0f), 1.2f);
+  const std::vector<std::string> common = {"photons_per_sample=50000", "grid_resolution=32"};
+  auto render = [&](std::vector<std::string> knobs) {
+    knobs.insert(knobs.end(), common.begin(), common.end());
+    return causticbench::testing::render(scene, "lpi", knobs);
+  };
+  const FrameResult exact = render({});
+  ASSERT_EQ(exact.method_record["objects"][0]["light_samples"], 1);
+  const FrameResult aligned = render({"light_samples=all", "light_subdivision=1", "blend=aligned"});
+  const FrameResult barycentric = render({"light_samples=all", "light_subdivision=1", "blend=barycentric"});
+  ASSERT_EQ(aligned.method_record["objects"][0]["light_samples"], 42);
+  const double aligned_l1 = relative_l1(aligned, exact, mask), barycentric_l1 = relative_l1(barycentric, exact, mask);
+  const Agreement aligned_agreement = agreement(aligned, exact, mask);
+  std::printf("glass sphere between light samples: relative L1 against the exact sample, aligned %.4f (energy %.4f), barycentric %.4f\n",
+              aligned_l1, aligned_agreement.energy_ratio, barycentric_l1);
+  EXPECT_LT(aligned_l1, 0.3);
+  EXPECT_NEAR(aligned_agreement.energy_ratio, 1.0, 0.1);
+  EXPECT_GT(barycentric_l1, 0.6);
+}
+
 // Model only what the scene requires: a static light gets its one direction, a moving one the
 // geodesic set (162 at subdivision 2), unless the object's symmetry says fewer suffice.
 TEST(Lpi, ChoosesTheLightSamplesTheFramesNeed) {
