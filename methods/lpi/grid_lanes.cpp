@@ -91,14 +91,16 @@ LANES_TARGET inline Lanes gather_word(const uint8_t* base, Lanes offset, Lanes l
   return _mm256_srlv_epi32(word, _mm256_slli_epi32(_mm256_sub_epi32(offset, start), 3));
 }
 
-// half_to_float for the 16-bit values of `first` and `second` (one per 32-bit lane, high bits zero),
-// by F16C's conversion, exact as half_to_float is (it differs only on signalling NaNs, which it
-// quiets; float_to_half never stores one).
-LANES_TARGET inline void halves_to_floats(Lanes first, Lanes second, V& first_floats, V& second_floats) {
-  // packus keeps the 128-bit halves apart: [first 0-3, second 0-3 | first 4-7, second 4-7] -> reorder.
-  const Lanes packed = _mm256_permute4x64_epi64(_mm256_packus_epi32(first, second), 0xd8);
-  first_floats = _mm256_cvtph_ps(_mm256_castsi256_si128(packed));
-  second_floats = _mm256_cvtph_ps(_mm256_extracti128_si256(packed, 1));
+// half_to_float for the two halves of each 32-bit word, by F16C's conversion, exact as half_to_float
+// is (it differs only on signalling NaNs, which it quiets; float_to_half never stores one). F16C
+// converts four words' halves at a time; the shuffle that parts low halves from high ones leaves the
+// lanes in the order [0, 1, 4, 5, 2, 3, 6, 7], so the words are gathered in that order
+// (kHalfLaneOrder) and come out in lane order.
+constexpr int kHalfLaneOrder = 0xd8;  // _mm256_permute4x64_epi64: 32-bit lanes 0, 1, 4, 5, 2, 3, 6, 7
+LANES_TARGET inline void halves_to_floats(Lanes words, V& low_halves, V& high_halves) {
+  const V x = _mm256_cvtph_ps(_mm256_castsi256_si128(words)), y = _mm256_cvtph_ps(_mm256_extracti128_si256(words, 1));
+  low_halves = _mm256_shuffle_ps(x, y, 0x88);
+  high_halves = _mm256_shuffle_ps(x, y, 0xdd);
 }
 
 // Lane `low`'s three floats in the low half, lane `low + 4`'s in the high half; the fourth float is
@@ -131,18 +133,17 @@ LANES_TARGET inline void read_point(const LaneRead& read, Lanes point, V (&value
   } else if constexpr (P == Precision::float16) {
     // Words at byte 4w hold channels 2w and 2w + 1; an odd last channel is the high half of the word
     // ending with it, so no word reaches past the point's values.
-    const Lanes offset = _mm256_slli_epi32(first, 1), low = splat(0xffff);
+    const int* base = reinterpret_cast<const int*>(read.bytes);
+    const Lanes offset = _mm256_slli_epi32(_mm256_permute4x64_epi64(first, kHalfLaneOrder), 1);
 #pragma GCC unroll 4
     for (int w = 0; 2 * w + 1 < N; ++w) {
-      const Lanes word = _mm256_i32gather_epi32(reinterpret_cast<const int*>(read.bytes),
-                                                _mm256_add_epi32(offset, splat(4 * w)), 1);
-      halves_to_floats(_mm256_and_si256(word, low), _mm256_srli_epi32(word, 16), values[2 * w], values[2 * w + 1]);
+      const Lanes words = _mm256_i32gather_epi32(base, _mm256_add_epi32(offset, splat(4 * w)), 1);
+      halves_to_floats(words, values[2 * w], values[2 * w + 1]);
     }
     if constexpr (N % 2 == 1) {
-      const Lanes word = _mm256_i32gather_epi32(reinterpret_cast<const int*>(read.bytes),
-                                                _mm256_add_epi32(offset, splat(2 * N - 4)), 1);
+      const Lanes words = _mm256_i32gather_epi32(base, _mm256_add_epi32(offset, splat(2 * N - 4)), 1);
       V unused;
-      halves_to_floats(_mm256_srli_epi32(word, 16), _mm256_setzero_si256(), values[N - 1], unused);
+      halves_to_floats(words, unused, values[N - 1]);
     }
   } else {
     const Lanes last_word = splat(read.last_word);
