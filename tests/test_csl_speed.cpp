@@ -1,8 +1,9 @@
 // The CPU backend's speed-ups of csl's evaluation and what they must not change: the cull (render knob
 // `cull`, methods/csl/spot_reach.h) leaves the image the same bit for bit while it skips pairs, and the
 // vector lanes (render knob `lanes`, methods/csl/evaluation_lanes.h) agree with the scalar evaluation,
-// per point on spot lights of every kind of profile and on whole frames. Their speed is measured by a
-// command in methods/csl/README.md, not here.
+// per point on spot lights of every kind of profile and on whole frames, the float lanes with the double
+// ones on whole frames, and the gathered lookups (methods/csl/tile_lookup.h) with the one-by-one lookups
+// bit for bit. Their speed is measured by a command in methods/csl/README.md, not here.
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -13,6 +14,7 @@
 #include "methods/csl/evaluation_lanes.h"
 #include "methods/csl/spot_light.h"
 #include "methods/csl/spot_reach.h"
+#include "methods/csl/tile_lookup.h"
 #include "methods/lifecycle.h"
 #include "methods/registry.h"
 #include "tests/test_support.h"
@@ -49,7 +51,9 @@ const std::vector<std::vector<std::string>> kEvaluationKnobs = {
     {}, {"intensity_correction=off"}, {"on_axis=epsilon", "axis_epsilon=0.05"}};
 
 // On one prepared and updated instance, per evaluation knob set: cull on and off give the same image
-// bit for bit on both paths while the cull skips pairs, and the vector lanes agree with the scalar path.
+// bit for bit on both paths while the cull skips pairs, the vector lanes agree with the scalar path, and
+// `lanes: float` with the double lanes to the Vulkan kernel's bound (it computes the same geometry in
+// float; methods/csl/README.md, "Agreement"): relMSE below 1e-5 and flux within 1e-4.
 void expect_speedups_change_nothing(CausticMethod& method, const PosedFrame& frame, const std::string& what) {
   for (const std::vector<std::string>& set : kEvaluationKnobs) {
     std::string knobs;
@@ -83,6 +87,15 @@ void expect_speedups_change_nothing(CausticMethod& method, const PosedFrame& fra
     std::printf("%s%s: vector against scalar lanes relMSE %.3g, largest relative difference %.3g\n", what.c_str(),
                 knobs.c_str(), relmse, largest);
     EXPECT_LT(largest, 1e-6) << what << knobs;
+    std::vector<std::string> in_float = set;
+    in_float.push_back("lanes=float");
+    const Image narrow = method.render(frame.gbuffer, csl_knobs(in_float).render);
+    const double float_relmse = relative_mse(narrow, images[1][1], frame.gbuffer.receiver);
+    const double flux = masked_sum(narrow, frame.gbuffer.receiver) / masked_sum(images[1][1], frame.gbuffer.receiver);
+    std::printf("%s%s: float against double lanes relMSE %.3g, flux ratio %.9f\n", what.c_str(), knobs.c_str(),
+                float_relmse, flux);
+    EXPECT_LT(float_relmse, 1e-5) << what << knobs;
+    EXPECT_NEAR(flux, 1.0, 1e-4) << what << knobs;
   }
 }
 
@@ -95,6 +108,29 @@ SpotLight tilted_spot_light(const Profile& profile, int size, const std::vector<
   light.profile = profile;
   light.image = IntensityImage(size, 1, 1.0f, values, IntensityImage::Precision::uint16);
   return light;
+}
+
+// A tile of 1 + tile_index % kTilePoints random points in front of `light`, within `spread` of its axis,
+// with normals facing any way but mostly towards the light and footprint radii up to 0.06.
+struct RandomTile {
+  size_t count = 0;
+  Vec3 points[kTilePoints], normals[kTilePoints];
+  float footprints[kTilePoints];
+  PointTile tile;
+};
+RandomTile random_tile(const SpotLight& light, const EvaluationSettings& settings, int tile_index, float spread,
+                       std::mt19937& random) {
+  std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
+  RandomTile made;
+  made.count = 1 + tile_index % kTilePoints;
+  for (size_t j = 0; j < made.count; ++j) {
+    const float height = 1.5f * uniform(random) + 1.0f;
+    made.points[j] = light.origin + height * light.axis + spread * uniform(random) * light.u + spread * uniform(random) * light.v;
+    made.normals[j] = glm::normalize(Vec3(uniform(random), uniform(random), uniform(random)) - 0.8f * light.axis);
+    made.footprints[j] = 0.03f * (uniform(random) + 1.0f);
+  }
+  made.tile = make_tile(made.points, made.normals, made.footprints, made.count, settings);
+  return made;
 }
 
 }  // namespace
@@ -175,7 +211,6 @@ TEST(CslCull, NoLitPointIsCulled) {
 TEST(CslLanes, AgreeWithTheScalarEvaluationPointByPoint) {
   const std::vector<Profile> profiles = {{0.8, 0.5}, {0.8, 0.0}, {0.0, 0.0}, {-1.5, 0.0}, {2.0, 3.0}, {1e-9, 1e6}, {-0.7, 0.4}};
   std::mt19937 random(11);
-  std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
   const int size = 64;
   std::vector<float> values(size * size);
   for (int j = 0; j < size; ++j) {
@@ -193,23 +228,14 @@ TEST(CslLanes, AgreeWithTheScalarEvaluationPointByPoint) {
         settings.axis_epsilon = 0.02;
         const LightLanes lanes = light_lanes(light, light.image.max_radius(), correction);
         for (int tile_index = 0; tile_index < 200; ++tile_index) {
-          Vec3 points[kTilePoints], normals[kTilePoints];
-          float footprints[kTilePoints];
-          const size_t count = 1 + tile_index % kTilePoints;
-          for (size_t j = 0; j < count; ++j) {
-            // Mostly in front of the plane and within a few radii of the axis; some on the axis.
-            const float height = 1.5f * uniform(random) + 1.0f, spread = tile_index % 5 == 0 ? 0.01f : 2.0f;
-            points[j] = light.origin + height * light.axis + spread * uniform(random) * light.u + spread * uniform(random) * light.v;
-            normals[j] = glm::normalize(Vec3(uniform(random), uniform(random), uniform(random)) - 0.8f * light.axis);
-            footprints[j] = 0.03f * (uniform(random) + 1.0f);
-          }
-          const PointTile tile = make_tile(points, normals, footprints, count, settings);
+          // Mostly within a few radii of the axis; some on the axis.
+          const RandomTile t = random_tile(light, settings, tile_index, tile_index % 5 == 0 ? 0.01f : 2.0f, random);
           TileRays rays;
-          tile_rays(lanes, tile, rays);
-          for (size_t j = 0; j < count; ++j) {
+          tile_rays(lanes, t.tile, rays);
+          for (size_t j = 0; j < t.count; ++j) {
             float scalar[3] = {0.0f, 0.0f, 0.0f}, vector[3] = {0.0f, 0.0f, 0.0f};
-            light.evaluate(points[j], normals[j], footprints[j], settings, scalar);
-            tile_value(light, StoredImage(light.image), rays, j, points[j], normals[j], footprints[j], settings, vector);
+            light.evaluate(t.points[j], t.normals[j], t.footprints[j], settings, scalar);
+            tile_value(light, StoredImage(light.image), rays, j, t.points[j], t.normals[j], t.footprints[j], settings, vector);
             ++compared;
             lit += scalar[0] > 0.0f;
             identical += std::memcmp(scalar, vector, sizeof(float)) == 0;
@@ -225,4 +251,61 @@ TEST(CslLanes, AgreeWithTheScalarEvaluationPointByPoint) {
   }
   std::printf("%zu points (%zu lit): %zu identical, largest relative difference %.3g\n", compared, lit, identical, largest);
   EXPECT_GT(lit, compared / 4);  // most points are lit: the comparison is not of zeros
+}
+
+// The gathered lookups (tile_lookup.h) against tile_value's one ray at a time, bit for bit, on uint16 and
+// float32 images lit up to their edges, so that rays land inside the texels, on the border squares
+// (the scalar lookup's lanes) and beyond the image, at points with and without near-axis lanes.
+TEST(CslLanes, GatheredLookupsAreTheSameBitForBit) {
+  if (!tile_lookups_apply(IntensityImage(2, 1, 1.0f, {1.0f, 1.0f, 1.0f, 1.0f}, IntensityImage::Precision::float32))) {
+    GTEST_SKIP() << "no AVX2";
+  }
+  const std::vector<Profile> profiles = {{0.8, 0.5}, {0.0, 0.0}, {-1.5, 0.0}, {2.0, 3.0}};
+  std::mt19937 random(17);
+  const int size = 32;
+  std::vector<float> values(size * size);
+  for (int j = 0; j < size; ++j) {
+    for (int i = 0; i < size; ++i) values[j * size + i] = 1.0f + 0.37f * ((i * 7 + j * 13) % 11);
+  }
+  size_t compared = 0, lit = 0, differing = 0, border = 0, beyond = 0;
+  for (const IntensityImage::Precision precision : {IntensityImage::Precision::uint16, IntensityImage::Precision::float32}) {
+    for (const Profile& profile : profiles) {
+      SpotLight light = tilted_spot_light(profile, size, values);
+      light.image = IntensityImage(size, 1, 1.0f, values, precision);
+      EvaluationSettings settings;
+      settings.axis_epsilon = 0.02;
+      const LightLanes lanes = light_lanes(light, light.image.max_radius(), true);
+      for (int tile_index = 0; tile_index < 400; ++tile_index) {
+        const RandomTile t = random_tile(light, settings, tile_index, tile_index % 7 == 0 ? 0.02f : 2.5f, random);
+        TileRays rays;
+        tile_rays(lanes, t.tile, rays);
+        float gathered[kTilePoints] = {};
+        tile_lookups(light.image, rays, t.count, gathered);
+        for (size_t j = 0; j < t.count; ++j) {
+          float one_by_one[3] = {0.0f, 0.0f, 0.0f};
+          if ((rays.near_axis >> j) & 1u) continue;  // the scalar evaluation, in both
+          tile_value(light, StoredImage(light.image), rays, j, t.points[j], t.normals[j], t.footprints[j], settings, one_by_one);
+          ++compared;
+          lit += one_by_one[0] > 0.0f;
+          differing += std::memcmp(&gathered[j], one_by_one, sizeof(float)) != 0;
+          EXPECT_EQ(gathered[j], one_by_one[0]) << "kappa " << profile.kappa << " beta " << profile.beta;
+          // Where the rays landed: on a border square (fx or fy in [-1, 0) or [size - 1, size)) or beyond.
+          for (int k = 0; k < TileRays::kCandidates; ++k) {
+            if (!((rays.ray[k] >> j) & 1u)) continue;
+            const float fx = (static_cast<float>(rays.x[k][j]) + 1.0f) * (size / 2.0f) - 0.5f;
+            const float fy = (static_cast<float>(rays.y[k][j]) + 1.0f) * (size / 2.0f) - 0.5f;
+            const bool outside = !(fx > -1.0f && fy > -1.0f && fx < size && fy < size);
+            beyond += outside;
+            border += !outside && (fx < 0.0f || fy < 0.0f || fx >= size - 1 || fy >= size - 1);
+          }
+        }
+      }
+    }
+  }
+  std::printf("%zu points (%zu lit): %zu differ; rays on border squares %zu, beyond the image %zu\n", compared, lit,
+              differing, border, beyond);
+  EXPECT_EQ(differing, 0u);
+  EXPECT_GT(lit, compared / 4);
+  EXPECT_GT(border, 20u);
+  EXPECT_GT(beyond, 20u);
 }

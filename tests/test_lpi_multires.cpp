@@ -320,7 +320,9 @@ TEST(LpiCompressedStorage, CachedBuildsAndThreadCountsRenderIdentically) {
   const std::filesystem::path cache = std::filesystem::temp_directory_path() / "causticbench_test_lpi_multires_builds";
   for (const std::vector<std::string>& knobs :
        {std::vector<std::string>{"storage=multires", "multires_depth=4", "error_threshold=0.02", "precision=uint8"},
-        std::vector<std::string>{"storage=sh", "sh_order=2", "light_subdivision=1", "grid_resolution=8"}}) {
+        std::vector<std::string>{"storage=sh", "sh_order=2", "light_subdivision=1", "grid_resolution=8"},
+        std::vector<std::string>{"storage=multires", "multires_depth=4", "error_threshold=0.02", "precision=uint8",
+                                 "multires_tree=per_sample", "light_samples=all", "light_subdivision=0"}}) {
     ParamDict dict;
     dict.set_assignment("photons_per_sample=3000", "test");
     for (const std::string& knob : knobs) dict.set_assignment(knob, "test");

@@ -49,6 +49,11 @@ struct Sse {
   static Vec unordered(Vec a, Vec b) { return _mm_cmpunord_ps(a, b); }
   static void store_int(int* p, Vec v) { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), _mm_cvttps_epi32(v)); }
   static Vec truncate(Vec v) { return _mm_cvtepi32_ps(_mm_cvttps_epi32(v)); }
+  // The lanes widened to doubles, stored at p[0..width).
+  static void store_double(double* p, Vec v) {
+    _mm_storeu_pd(p, _mm_cvtps_pd(v));
+    _mm_storeu_pd(p + 2, _mm_cvtps_pd(_mm_movehl_ps(v, v)));
+  }
 };
 
 // Eight float lanes.
@@ -67,6 +72,10 @@ struct Avx2 {
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), _mm256_cvttps_epi32(v));
   }
   CAUSTICBENCH_AVX2 static Vec truncate(Vec v) { return _mm256_round_ps(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC); }
+  CAUSTICBENCH_AVX2 static void store_double(double* p, Vec v) {
+    _mm256_storeu_pd(p, _mm256_cvtps_pd(_mm256_castps256_ps128(v)));
+    _mm256_storeu_pd(p + 4, _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1)));
+  }
 };
 
 // Two double lanes.
@@ -81,6 +90,7 @@ struct SseDouble {
   static Vec greater_equal(Vec a, Vec b) { return _mm_cmpge_pd(a, b); }
   static Vec equal(Vec a, Vec b) { return _mm_cmpeq_pd(a, b); }
   static Vec not_equal(Vec a, Vec b) { return _mm_cmpneq_pd(a, b); }
+  static void store_double(double* p, Vec v) { store(p, v); }
 };
 
 // Four double lanes.
@@ -95,6 +105,7 @@ struct Avx2Double {
   CAUSTICBENCH_AVX2 static Vec greater_equal(Vec a, Vec b) { return _mm256_cmp_pd(a, b, _CMP_GE_OQ); }
   CAUSTICBENCH_AVX2 static Vec equal(Vec a, Vec b) { return _mm256_cmp_pd(a, b, _CMP_EQ_OQ); }
   CAUSTICBENCH_AVX2 static Vec not_equal(Vec a, Vec b) { return _mm256_cmp_pd(a, b, _CMP_NEQ_UQ); }
+  CAUSTICBENCH_AVX2 static void store_double(double* p, Vec v) { store(p, v); }
 };
 
 #undef CAUSTICBENCH_SIMD_OPS

@@ -103,8 +103,8 @@ const MethodInfo& CslMethod::static_info() {
                           "per contributing spot light ray; the cpu backend only)",
                           ParamPhase::render)
             .only_when("backend", {"cpu"}),
-        // Added after csl's runs were recorded; neither changes the image (the cull is exact, the lanes
-        // agree with the scalar evaluation to rounding), so their defaults are left out of the run key.
+        // Added after csl's runs were recorded; neither default changes the image (the cull is exact, the
+        // double lanes agree with the scalar evaluation to rounding), so they are left out of the run key.
         ParamSpec::choice("cull", "on", {"on", "off"},
                           "on: each spot light is evaluated only at the receivers its rays' volume may reach (a "
                           "conservative bound per 8 x 8 pixels and per 8 receivers; the image is the same bit for bit); "
@@ -112,10 +112,11 @@ const MethodInfo& CslMethod::static_info() {
                           ParamPhase::render)
             .only_when("backend", {"cpu"})
             .unkeyed_at_default(),
-        ParamSpec::choice("lanes", "vector", {"vector", "scalar"},
+        ParamSpec::choice("lanes", "vector", {"vector", "float", "scalar"},
                           "vector: the geometry of Eqs. 2 to 4 for 8 receivers at a time in double SIMD lanes (AVX2 or "
-                          "SSE2), then the image lookups of the rays found; scalar: one receiver at a time; shadow_rays "
-                          "always run scalar (the cpu backend)",
+                          "SSE2), then the image lookups of the rays found (8 at a time, gathered, from a one-channel "
+                          "image); float: the same geometry in float lanes, twice as wide, to the Vulkan kernel's "
+                          "tolerance; scalar: one receiver at a time; shadow_rays always run scalar (the cpu backend)",
                           ParamPhase::render)
             .only_when("backend", {"cpu"})
             .unkeyed_at_default(),

@@ -7,9 +7,10 @@
 // square's points, and of those a group's are the ones that meet the group's sphere. The bound is
 // conservative (a culled pair's evaluation is exactly zero), and every pixel still adds its spot lights
 // in the same order, so the image is the same bit for bit as with `cull: off` (tested).
-// With `lanes: vector` (the default) a group's points go through the light's geometry four at a time
-// (evaluation_lanes.h) and only the rays that reach them are looked up, one by one; `lanes: scalar`
-// evaluates each point alone. Shadow rays (occlusion: shadow_rays) always take the scalar path.
+// With `lanes: vector` (the default) a group's points go through the light's geometry four at a time in
+// double, with `lanes: float` eight at a time in float (evaluation_lanes.h), and only the rays that reach them are looked up: eight at a time from a stored
+// one-channel image (tile_lookup.h), otherwise one by one; `lanes: scalar` evaluates each point alone.
+// Shadow rays (occlusion: shadow_rays) always take the scalar path.
 #include <algorithm>
 #include <cmath>
 
@@ -19,6 +20,7 @@
 #include "methods/csl/csl.h"
 #include "methods/csl/evaluation_lanes.h"
 #include "methods/csl/spot_reach.h"
+#include "methods/csl/tile_lookup.h"
 
 namespace causticbench {
 
@@ -37,6 +39,7 @@ struct FrameSpot {
   int channels = 1;
   SpotReach reach;
   LightLanes lanes;
+  bool gathered = false;  // a stored image tile_lookups reads (tile_lookup.h)
 };
 
 // A group's points as the evaluation reads them (build space, as the scalar loop computed them).
@@ -68,6 +71,7 @@ void bound(const Vec3* points, size_t count, glm::dvec3& center, double& radius)
 struct GroupEvaluation {
   const EvaluationSettings& settings;
   bool vector = true;
+  LanePrecision precision = LanePrecision::double_precision;  // of the vector lanes' geometry
   const Tracer* shadow_tracer = nullptr;
   glm::mat3 to_world{1.0f};  // the object's build-space vectors to world ones, and its map's offset
   Vec3 offset{0.0f};
@@ -75,7 +79,19 @@ struct GroupEvaluation {
 
   // Adds to total[j] what `spot` sends to point j of `group` (`rays`: the lanes' scratch space).
   void add(const FrameSpot& spot, const Group& group, TileRays& rays, Color* total) const {
-    if (vector) tile_rays(spot.lanes, group.tile, rays);
+    if (vector) tile_rays(spot.lanes, group.tile, rays, precision);
+    if (vector && spot.gathered) {
+      // A stored one-channel image: the rays' lookups eight at a time, then the near-axis points alone.
+      float value[kTilePoints] = {};
+      tile_lookups(spot.stored->image, rays, group.count, value);
+      for (size_t j = 0; j < group.count; ++j) {
+        if ((rays.near_axis >> j) & 1u) {
+          spot.stored->evaluate(group.point[j], group.normal[j], group.footprint[j], settings, &value[j]);
+        }
+        total[j] += Color(value[j]) * spot.irradiance;
+      }
+      return;
+    }
     for (size_t j = 0; j < group.count; ++j) {
       float value[3] = {0.0f, 0.0f, 0.0f};
       if (vector) {
@@ -127,7 +143,9 @@ Image CslMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
   // occlusion, cull and lanes apply on the CPU backend only (the Vulkan kernel has no ray tracer).
   const bool shadow_rays = render.has("occlusion") && render.text("occlusion") == "shadow_rays";
   const bool cull = !render.has("cull") || render.text("cull") == "on";
-  const bool vector = !shadow_rays && (!render.has("lanes") || render.text("lanes") == "vector");
+  const std::string lanes = render.has("lanes") ? render.text("lanes") : "vector";
+  const bool vector = !shadow_rays && lanes != "scalar";
+  const LanePrecision precision = lanes == "float" ? LanePrecision::single_precision : LanePrecision::double_precision;
   // Per object: its evaluation settings (axis_epsilon is in its bounding radii) and the frame's spot
   // lights in the order every pixel adds them.
   std::vector<EvaluationSettings> settings_of;
@@ -145,6 +163,7 @@ Image CslMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
         spot.channels = image.channels();
         spot.reach = SpotReach(geometry, image.support_radius());
         spot.lanes = light_lanes(geometry, image.max_radius(), correction);
+        spot.gathered = stored != nullptr && tile_lookups_apply(stored->image);
         spots_of[i].push_back(spot);
       };
       if (light.set != nullptr) {
@@ -180,7 +199,7 @@ Image CslMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
           const std::vector<FrameSpot>& spots = spots_of[i];
           if (spots.empty()) continue;
           const EvaluationSettings& settings = settings_of[i];
-          const GroupEvaluation evaluation{settings, vector, shadow_rays ? tracer_ : nullptr, view.to_world,
+          const GroupEvaluation evaluation{settings, vector, precision, shadow_rays ? tracer_ : nullptr, view.to_world,
                                            view.map.offset, objects_[i].object};
           // The square's points in the object's build space, in groups of up to eight.
           groups.assign((square_pixels.size() + kTilePoints - 1) / kTilePoints, Group{});

@@ -33,6 +33,9 @@ PointTile make_tile(const Vec3* points, const Vec3* normals, const float* footpr
     tile.px[j] = points[from].x, tile.py[j] = points[from].y, tile.pz[j] = points[from].z;
     tile.nx[j] = normals[from].x, tile.ny[j] = normals[from].y, tile.nz[j] = normals[from].z;
     tile.near_axis[j] = settings.on_axis == OnAxis::epsilon ? settings.axis_epsilon : footprints[from];
+    tile.px_float[j] = points[from].x, tile.py_float[j] = points[from].y, tile.pz_float[j] = points[from].z;
+    tile.nx_float[j] = normals[from].x, tile.ny_float[j] = normals[from].y, tile.nz_float[j] = normals[from].z;
+    tile.near_axis_float[j] = static_cast<float>(tile.near_axis[j]);
   }
   return tile;
 }
@@ -47,9 +50,23 @@ __attribute__((always_inline)) inline typename S::Vec dot3(typename S::Vec x0, t
   return S::add(S::add(S::mul(x0, x1), S::mul(y0, y1)), S::mul(z0, z1));
 }
 
+// The tile's arrays in the lanes' precision.
+template <typename T>
+struct TileArrays {
+  const T *px, *py, *pz, *nx, *ny, *nz, *near_axis;
+};
+inline TileArrays<double> tile_arrays(const PointTile& p, double) {
+  return {p.px, p.py, p.pz, p.nx, p.ny, p.nz, p.near_axis};
+}
+inline TileArrays<float> tile_arrays(const PointTile& p, float) {
+  return {p.px_float, p.py_float, p.pz_float, p.nx_float, p.ny_float, p.nz_float, p.near_axis_float};
+}
+
 template <typename S>
-__attribute__((always_inline)) inline void tile_rays_lanes(const LightLanes& l, const PointTile& p, TileRays& out) {
+__attribute__((always_inline)) inline void tile_rays_lanes(const LightLanes& l, const PointTile& tile, TileRays& out) {
   using V = typename S::Vec;
+  using Scalar = typename S::Scalar;
+  const TileArrays<Scalar> p = tile_arrays(tile, Scalar());
   const V zero = S::set1(0.0), one = S::set1(1.0), sign_bit = S::set1(-0.0);
   const V ox = S::set1(l.origin[0]), oy = S::set1(l.origin[1]), oz = S::set1(l.origin[2]);
   const V ax = S::set1(l.axis[0]), ay = S::set1(l.axis[1]), az = S::set1(l.axis[2]);
@@ -96,18 +113,18 @@ __attribute__((always_inline)) inline void tile_rays_lanes(const LightLanes& l, 
         const V signed_r = S::mul(side_sign, r);
         const V fx = S::mul(signed_r, wx), fy = S::mul(signed_r, wy), fz = S::mul(signed_r, wz);
         const int k = 2 * side + which;
-        S::store(out.x[k] + i, dot3<S>(fx, fy, fz, ux, uy, uz));
-        S::store(out.y[k] + i, dot3<S>(fx, fy, fz, vx, vy, vz));
+        S::store_double(out.x[k] + i, dot3<S>(fx, fy, fz, ux, uy, uz));
+        S::store_double(out.y[k] + i, dot3<S>(fx, fy, fz, vx, vy, vz));
         // Eq. 4's area ratio |(1 - z g(r)) ds(r, z)|, bounded below by 1e-6.
         const V g = S::mul(kappa, S::add(one, S::mul(beta, r)));
         const V ratio = S::and_not(sign_bit, S::mul(S::sub(one, S::mul(z, g)), S::sub(ds_constant, S::mul(ds_slope, r))));
-        S::store(out.correction[k] + i, l.intensity_correction ? S::div(one, S::max(ratio, S::set1(1e-6))) : one);
+        S::store_double(out.correction[k] + i, l.intensity_correction ? S::div(one, S::max(ratio, S::set1(1e-6))) : one);
         // The ray's direction and the receiver's |n.e| / |a.e|.
         V ex = S::sub(ax, S::mul(g, fx)), ey = S::sub(ay, S::mul(g, fy)), ez = S::sub(az, S::mul(g, fz));
         const V inverse = S::div(one, S::sqrt(dot3<S>(ex, ey, ez, ex, ey, ez)));
         ex = S::mul(ex, inverse), ey = S::mul(ey, inverse), ez = S::mul(ez, inverse);
         const V cosine = S::div(S::max(S::bit_xor(sign_bit, dot3<S>(nx, ny, nz, ex, ey, ez)), zero), dot3<S>(ax, ay, az, ex, ey, ez));
-        S::store(out.cosine[k] + i, cosine);
+        S::store_double(out.cosine[k] + i, cosine);
         keep = S::and_not(S::less_equal(cosine, zero), keep);
         out.ray[k] |= static_cast<uint32_t>(S::lanes(keep)) << i;
       }
@@ -118,16 +135,27 @@ __attribute__((always_inline)) inline void tile_rays_lanes(const LightLanes& l, 
 void tile_rays_sse(const LightLanes& light, const PointTile& points, TileRays& rays) {
   tile_rays_lanes<simd::SseDouble>(light, points, rays);
 }
+void tile_rays_sse_float(const LightLanes& light, const PointTile& points, TileRays& rays) {
+  tile_rays_lanes<simd::Sse>(light, points, rays);
+}
 // Flattened: every helper is inlined into the AVX2 function, so that no AVX vector crosses a call.
 CAUSTICBENCH_AVX2 __attribute__((flatten)) void tile_rays_avx2(const LightLanes& light, const PointTile& points,
                                                               TileRays& rays) {
   tile_rays_lanes<simd::Avx2Double>(light, points, rays);
 }
+CAUSTICBENCH_AVX2 __attribute__((flatten)) void tile_rays_avx2_float(const LightLanes& light, const PointTile& points,
+                                                                    TileRays& rays) {
+  tile_rays_lanes<simd::Avx2>(light, points, rays);
+}
 
 }  // namespace
 
-void tile_rays(const LightLanes& light, const PointTile& points, TileRays& rays) {
-  simd::has_avx2() ? tile_rays_avx2(light, points, rays) : tile_rays_sse(light, points, rays);
+void tile_rays(const LightLanes& light, const PointTile& points, TileRays& rays, LanePrecision precision) {
+  if (precision == LanePrecision::single_precision) {
+    simd::has_avx2() ? tile_rays_avx2_float(light, points, rays) : tile_rays_sse_float(light, points, rays);
+  } else {
+    simd::has_avx2() ? tile_rays_avx2(light, points, rays) : tile_rays_sse(light, points, rays);
+  }
 }
 
 }  // namespace causticbench::csl

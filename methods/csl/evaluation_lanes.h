@@ -1,11 +1,13 @@
-// The vectorised geometric part of csl's CPU evaluation (render knob `lanes: vector`): for one spot
-// light and a tile of up to eight receiver points, four doubles at a time with AVX2 (two with SSE2
-// where AVX2 is missing, chosen at run time, methods/common/simd_lanes.h), the steps of
+// The vectorised geometric part of csl's CPU evaluation (render knob `lanes: vector` or `float`): for one
+// spot light and a tile of up to eight receiver points, four doubles at a time with AVX2 (two with SSE2
+// where AVX2 is missing, chosen at run time, methods/common/simd_lanes.h), or with `lanes: float` eight
+// floats (four with SSE2), the steps of
 // evaluate_spot_light (spot_light_evaluate.h) up to the image lookup: the point in the light's frame,
 // the up to four roots of Eqs. 2 and 3 in the same product form, the roots beyond the image dropped and
 // a double root kept once, and per root its light plane point, Eq. 4's correction and the receiver's
-// cosine. The same operations in the same order and in double as the scalar evaluation, so that its
-// result agrees with it to rounding (tested; measured identical). The caller looks each ray up in the
+// cosine. The same operations in the same order as the scalar evaluation; in double its result agrees
+// with it to rounding (tested; measured identical), in float to float's rounding amplified where Eq. 4's
+// area ratio vanishes (the caustic's fold), as the Vulkan kernel's (tested against the double lanes). The caller looks each ray up in the
 // image (csl_render.cpp); points near the axis, where the on-axis treatments apply, go to the scalar
 // evaluation whole.
 #pragma once
@@ -28,6 +30,10 @@ struct PointTile {
   // The distance from the axis below which the on-axis treatment applies: the footprint radius
   // (on_axis: integrate) or axis_epsilon (epsilon).
   double near_axis[kTilePoints];
+  // The same in float, what `lanes: float` reads.
+  float px_float[kTilePoints], py_float[kTilePoints], pz_float[kTilePoints];
+  float nx_float[kTilePoints], ny_float[kTilePoints], nz_float[kTilePoints];
+  float near_axis_float[kTilePoints];
 };
 
 // The tile of `count` (1 to kTilePoints) points with their unit normals and footprint radii, as
@@ -54,7 +60,13 @@ struct TileRays {
   double correction[kCandidates][kTilePoints], cosine[kCandidates][kTilePoints];
 };
 
-void tile_rays(const LightLanes& light, const PointTile& points, TileRays& rays);
+// The lanes' precision: double (`lanes: vector`, evaluate_spot_light's operations to rounding) or float
+// (`lanes: float`, twice as many lanes; what the Vulkan kernel computes in, to its tolerance). Either
+// way the rays are stored as doubles.
+enum class LanePrecision { double_precision, single_precision };
+
+void tile_rays(const LightLanes& light, const PointTile& points, TileRays& rays,
+               LanePrecision precision = LanePrecision::double_precision);
 
 // The value `spot` (a SpotLight or an InterpolatedSpotLight, reading `image`) adds to value[0..channels)
 // at point i of the tile tile_rays made `rays` from: the lookups of its rays, or, where the point is

@@ -59,6 +59,7 @@ inline void add_shading(const float* values, const Vec3& normal, bool vector, fl
 // of one point, so they share one stencil per receiver point.
 struct PreparedReads {
   int count = 0;
+  uint32_t samples[3];  // which light sample each read is (a multires tree per light sample: its tree)
   SampleBlock blocks[3];
   float weights[3];
   bool rotated[3];
@@ -70,6 +71,7 @@ inline PreparedReads prepare_reads(const StoredValues& values, const LightReads&
   PreparedReads prepared;
   prepared.count = reads.count;
   for (int r = 0; r < reads.count; ++r) {
+    prepared.samples[r] = reads.reads[r].sample;
     prepared.blocks[r] = values.block(reads.reads[r].sample);
     prepared.weights[r] = reads.reads[r].weight;
     prepared.rotated[r] = reads.reads[r].rotated;
@@ -114,8 +116,10 @@ inline void read_stencil(const Stencil& stencil, const SampleBlock* blocks, cons
 // Bit for bit the arithmetic of reading each light sample through its own stencil and
 // StoredValues::add, corner after corner, then shading the reads in order (test_lpi_fast_paths.cpp
 // checks it): each read keeps its own sums, added in the same order, so sharing the stencil among
-// the unrotated reads and interleaving their corners changes no rounding.
-template <class Layout, class Decoding>
+// the unrotated reads and interleaving their corners changes no rounding. `PerSampleTrees` (a multires
+// tree per light sample): the reads share the finest grid's stencil, each mapped through its own
+// sample's tree.
+template <class Layout, class Decoding, bool PerSampleTrees = false>
 void add_object_caustic_decoded(const Layout& layout, const ObjectView& view, const GBuffer& gbuffer, size_t begin,
                                 size_t end, Image& result) {
   const Vec3 center = layout.center();
@@ -158,7 +162,17 @@ void add_object_caustic_decoded(const Layout& layout, const ObjectView& view, co
         add_shading(values, normal, vector, paper_cosine, sums);
       }
       float values[3][9];  // each read's, written whole by read_stencil (not zeroed here: a memset per point)
-      if (reads.unrotated > 0) {
+      if constexpr (PerSampleTrees) {
+        for (int r = 0; r < reads.count; ++r) {
+          if (!reads.rotated[r] && !have_unrotated) {
+            unrotated = layout.finest_stencil(center + offset);
+            have_unrotated = true;
+          }
+          Stencil stencil = reads.rotated[r] ? layout.finest_stencil(center + reads.rotations[r] * offset) : unrotated;
+          layout.to_leaves(stencil, reads.samples[r]);
+          read_stencil<Decoding, 1>(stencil, &reads.blocks[r], &reads.weights[r], channels, &values[r]);
+        }
+      } else if (reads.unrotated > 0) {
         if (!have_unrotated) {
           unrotated = layout.stencil(center + offset);
           have_unrotated = true;
@@ -173,7 +187,7 @@ void add_object_caustic_decoded(const Layout& layout, const ObjectView& view, co
           }
         }
       }
-      for (int r = 0; r < reads.count; ++r) {
+      for (int r = 0; r < reads.count && !PerSampleTrees; ++r) {
         if (!reads.rotated[r]) continue;
         const Stencil stencil = layout.stencil(center + reads.rotations[r] * offset);
         read_stencil<Decoding, 1>(stencil, &reads.blocks[r], &reads.weights[r], channels, &values[r]);
@@ -195,6 +209,14 @@ void add_object_caustic_decoded(const Layout& layout, const ObjectView& view, co
 template <class Layout>
 void add_object_caustic_scalar(const Layout& layout, const ObjectView& view, const GBuffer& gbuffer, size_t begin,
                                size_t end, Image& result) {
+  if constexpr (std::is_same_v<Layout, MultiresLayout>) {
+    if (layout.per_sample()) {
+      with_decoding(view.values, [&](auto decoding) {
+        add_object_caustic_decoded<Layout, decltype(decoding), true>(layout, view, gbuffer, begin, end, result);
+      });
+      return;
+    }
+  }
   with_decoding(view.values, [&](auto decoding) {
     add_object_caustic_decoded<Layout, decltype(decoding)>(layout, view, gbuffer, begin, end, result);
   });

@@ -61,9 +61,19 @@ const MethodInfo& LpiMethod::static_info() {
             .only_when("storage", multires),
         ParamSpec::real("error_threshold", 0.01, 0.0, 1.0,
                         "a multires subtree becomes one leaf, its mean, when every finest cell in it lies within "
-                        "error_threshold x the light sample's largest value of that mean (every sample and channel)",
+                        "error_threshold x the light sample's largest value of that mean (every channel, and every light "
+                        "sample the tree serves)",
                         ParamPhase::build)
             .only_when("storage", multires),
+        // Added after experiments shipped: at shared it stays out of their run keys and build-cache keys,
+        // so stored shared trees keep theirs; per_sample names builds of its own.
+        ParamSpec::choice("multires_tree", "shared", {"shared", "per_sample"},
+                          "shared: one octree for all light samples, refined where any sample's caustic varies (one "
+                          "descent a receiver point); per_sample: an octree per light sample, refined only where its "
+                          "own caustic varies (fewer values, its own tree words, a descent per read)",
+                          ParamPhase::build)
+            .only_when("storage", multires)
+            .unkeyed_at_default(),
         ParamSpec::integer("sh_order", 4, 0, 9,
                            "highest degree of the spherical harmonics over light directions, (order + 1)^2 coefficients "
                            "a cell and channel (4: the paper's 5th order read as 5 bands, Fig. 9)",
@@ -166,6 +176,7 @@ VolumeSettings lpi::volume_settings(const ParamSet& build) {
   if (settings.storage == StorageKind::multires) {
     settings.multires_depth = static_cast<int>(build.integer("multires_depth"));
     settings.error_threshold = build.real("error_threshold");
+    settings.multires_tree = build.text("multires_tree") == "per_sample" ? MultiresTree::per_sample : MultiresTree::shared;
   }
   if (settings.storage == StorageKind::shells) {
     settings.shell_count = static_cast<int>(build.integer("shell_count"));
@@ -424,6 +435,19 @@ nlohmann::json LpiMethod::record() const {
     if (const auto* tree = dynamic_cast<const MultiresLayout*>(object.layout.get())) {
       entry["tree_nodes"] = tree->nodes();
       entry["finest_cells"] = tree->deposit_points();
+      if (tree->per_sample()) {
+        // The spread of the light samples' trees: leaves and node words of the smallest and largest.
+        const std::vector<size_t> leaves = tree->block_points(object.samples.directions.size());
+        size_t fewest = 0, most = 0;
+        for (size_t s = 0; s < leaves.size(); ++s) {
+          if (leaves[s] < leaves[fewest]) fewest = s;
+          if (leaves[s] > leaves[most]) most = s;
+        }
+        if (!leaves.empty()) {
+          entry["sample_leaves"] = {{"fewest", leaves[fewest]}, {"most", leaves[most]}};
+          entry["sample_tree_nodes"] = {{"of_fewest", tree->sample_nodes(fewest)}, {"of_most", tree->sample_nodes(most)}};
+        }
+      }
     }
     if (object.harmonic) entry["coefficients"] = object.values.light_samples();
     const size_t index = objects.size();

@@ -106,6 +106,18 @@ LightSampleSet environment_samples(const Scene& scene, int object, const Boundin
   return part;
 }
 
+// An environment light's volumes are summed into one per frame (combine_blocks), which needs every
+// light sample's values at the same points: not so with a multires tree per light sample.
+void check_environment_storage(const Scene& scene, const VolumeSettings& settings) {
+  if (!per_sample_trees(settings)) return;
+  for (const Light& light : scene.lights)
+    if (is_environment_light(light.kind))
+      throw InputError(fmt::format("{}: light '{}' is an environment light, whose light samples lpi sums into one volume "
+                                   "a frame, and multires_tree: per_sample gives each light sample points of its own; "
+                                   "use multires_tree: shared",
+                                   scene.source, light.name.empty() ? "(unnamed)" : light.name));
+}
+
 // Model only what the scene requires: a light whose direction in the object's frame never changes
 // gets its one direction; otherwise the set the knobs describe.
 LightSampleSet choose_samples(const Scene& scene, int object, const BoundingSphere& bounds, const std::vector<int>& frames,
@@ -189,6 +201,7 @@ void LpiMethod::plan(const PrepareContext& context, const ParamSet& build) {
     check_vulkan_supports(settings_);
     check_vulkan_lights(context.scene);
   }
+  check_environment_storage(context.scene, settings_);
   scene_ = &context.scene;
   objects_.clear();
   frame_.clear();
@@ -221,6 +234,7 @@ std::optional<nlohmann::json> LpiMethod::build_dependencies(const PrepareContext
     check_vulkan_supports(volume_settings(build));
     check_vulkan_lights(context.scene);
   }
+  check_environment_storage(context.scene, volume_settings(build));
   nlohmann::json objects = nlohmann::json::array();
   for (int object : context.rest.specular_objects()) {
     const SceneObject& source = context.scene.objects[object];
@@ -255,7 +269,7 @@ void LpiMethod::save_build(const std::string& folder) const {
                  static_cast<std::streamsize>(object.values.bytes().size()));
     stream.write(reinterpret_cast<const char*>(object.values.scales().data()),
                  static_cast<std::streamsize>(object.values.scales().size() * sizeof(float)));
-    // An adaptive layout's structure (the multires tree) after the values: its words' count, then them.
+    // An adaptive layout's structure (the multires tree or trees) after the values: its words' count, then them.
     const std::vector<uint32_t> structure = object.layout->structure();
     if (object.layout->adaptive()) {
       const uint64_t words = structure.size();
@@ -296,7 +310,7 @@ void LpiMethod::load_build(const PrepareContext& context, const ParamSet& build,
     // An adaptive layout's point count comes with its structure, after the values.
     const bool points_match = adaptive || header[2] == object.layout->points();
     if (!stream || format != std::string(kValuesFormat, format.size()) || !points_match || header[1] != blocks ||
-        header[0] != blocks * header[2] * channels * precision_bytes(settings_.precision)) {
+        header[0] != (per_sample_trees(settings_) ? 1 : blocks) * header[2] * channels * precision_bytes(settings_.precision)) {
       throw std::runtime_error(path + ": not the values of this build");
     }
     std::vector<uint8_t> bytes(header[0]);
@@ -315,10 +329,14 @@ void LpiMethod::load_build(const PrepareContext& context, const ParamSet& build,
     }
     if (!stream) throw std::runtime_error(path + ": truncated");
     object.harmonic = settings_.storage == StorageKind::sh;
-    object.values = StoredValues::from_raw(settings_.precision, static_cast<int>(channels),
-                                           settings_.orientation == Orientation::vector || object.harmonic,
-                                           object.layout->points(),
-                                           std::move(bytes), std::move(scales));
+    const bool signed_values = settings_.orientation == Orientation::vector || object.harmonic;
+    const auto* tree = dynamic_cast<const MultiresLayout*>(object.layout.get());
+    if (tree && tree->per_sample() && tree->sample_trees() != blocks) throw std::runtime_error(path + ": not the values of this build");
+    object.values = tree && tree->per_sample()
+                        ? StoredValues::from_raw(settings_.precision, static_cast<int>(channels), signed_values,
+                                                 tree->block_points(blocks), std::move(bytes), std::move(scales))
+                        : StoredValues::from_raw(settings_.precision, static_cast<int>(channels), signed_values,
+                                                 object.layout->points(), std::move(bytes), std::move(scales));
     object.shoot_seconds = meta[i].value("shoot_seconds", 0.0);
     object.stats = PhotonStats{meta[i].value("emitted", uint64_t{0}), meta[i].value("deposited", uint64_t{0}),
                                meta[i].value("rays", uint64_t{0})};

@@ -20,7 +20,8 @@ std::unique_ptr<VolumeLayout> make_layout(const VolumeSettings& settings, const 
     return std::make_unique<GridLayout>(bounds.center, radius, settings.grid_resolution);
   }
   if (settings.storage == StorageKind::multires) {
-    return std::make_unique<MultiresLayout>(bounds.center, radius, settings.multires_depth, settings.error_threshold);
+    return std::make_unique<MultiresLayout>(bounds.center, radius, settings.multires_depth, settings.error_threshold,
+                                            settings.multires_tree);
   }
   return std::make_unique<ShellLayout>(bounds.center, radius, settings.shell_count, settings.shell_subdivision,
                                        static_cast<ShellSpacing>(settings.shell_spacing));
@@ -33,7 +34,12 @@ size_t stored_blocks(const VolumeSettings& settings, const ObjectVolumes& volume
 
 double bytes_per_light_sample(const ObjectVolumes& volumes) {
   const double samples = static_cast<double>(std::max<size_t>(1, volumes.samples.directions.size()));
-  if (volumes.harmonic) return static_cast<double>(volumes.values.bytes().size()) / samples;
+  // The harmonic coefficients, and the blocks of a tree per light sample (each its own size): the
+  // mean over the light samples.
+  if (volumes.harmonic || !volumes.values.uniform_blocks()) {
+    return (static_cast<double>(volumes.values.bytes().size()) + static_cast<double>(volumes.layout->index_bytes())) /
+           samples;
+  }
   return static_cast<double>(volumes.values.bytes_per_light_sample()) +
          static_cast<double>(volumes.layout->index_bytes()) / samples;
 }
@@ -103,7 +109,10 @@ void shoot_light_samples(const Scene& build_scene, const VolumeSettings& setting
     signed_channels = true;  // coefficients of any sign
   }
   volumes.harmonic = harmonic_fit.has_value();
-  volumes.values = StoredValues::encode(settings.precision, channels, signed_channels, layout.points(), all_values);
+  volumes.values = per_sample_trees(settings)
+                      ? StoredValues::encode(settings.precision, channels, signed_channels,
+                                             layout.block_points(sample_count), all_values)
+                      : StoredValues::encode(settings.precision, channels, signed_channels, layout.points(), all_values);
   volumes.shoot_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 

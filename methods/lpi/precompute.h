@@ -17,6 +17,7 @@
 #include "core/scene.h"
 #include "methods/common/build_space.h"
 #include "methods/lpi/light_samples.h"
+#include "methods/lpi/multires_layout.h"
 #include "methods/lpi/stored_values.h"
 #include "methods/lpi/volume_layout.h"
 
@@ -32,6 +33,7 @@ struct VolumeSettings {
   int shell_spacing = 0;            // ShellSpacing
   int multires_depth = 6;           // finest level: 2^depth cells a side
   double error_threshold = 0.01;    // relative to each light sample's largest value
+  MultiresTree multires_tree = MultiresTree::shared;  // one tree for all light samples, or one each
   int sh_order = 4;                 // highest degree of the spherical harmonics
   double volume_radius = 3.0;       // in bounding radii
   Orientation orientation = Orientation::paper;
@@ -54,12 +56,17 @@ struct ObjectVolumes {
   double shoot_seconds = 0.0;  // photon shooting and deposition, all light samples
 };
 
+inline bool per_sample_trees(const VolumeSettings& settings) {
+  return settings.storage == StorageKind::multires && settings.multires_tree == MultiresTree::per_sample;
+}
+
 std::unique_ptr<VolumeLayout> make_layout(const VolumeSettings& settings, const BoundingSphere& bounds);
 
 // Blocks of stored values: one per light sample, or per coefficient for storage: sh.
 size_t stored_blocks(const VolumeSettings& settings, const ObjectVolumes& volumes);
 // Stored bytes per light sample: its block and its share of the table that indexes the values (the
-// multires tree); for storage: sh, every coefficient's bytes shared among the light samples fitted.
+// multires tree); for storage: sh, every coefficient's bytes shared among the light samples fitted;
+// for a multires tree per light sample, the mean over the samples of each one's leaves and tree.
 double bytes_per_light_sample(const ObjectVolumes& volumes);
 
 // Computes volumes.values for every direction of volumes.samples: photons_per_sample photons per

@@ -63,22 +63,38 @@ StoredValues StoredValues::encode(Precision precision, int channels, bool signed
   if (block == 0 || values.size() % block != 0) {
     throw std::logic_error(fmt::format("StoredValues::encode: {} values are not whole blocks of {}", values.size(), block));
   }
+  StoredValues stored = encode(precision, channels, signed_channels, std::vector<size_t>(values.size() / block, points), values);
+  stored.block_first_.clear();
+  stored.points_ = points;
+  return stored;
+}
+
+StoredValues StoredValues::encode(Precision precision, int channels, bool signed_channels,
+                                  const std::vector<size_t>& block_points, const std::vector<float>& values) {
   StoredValues stored;
   stored.precision_ = precision;
   stored.channels_ = channels;
   stored.signed_ = signed_channels;
-  stored.points_ = points;
-  const size_t light_samples = values.size() / block;
+  stored.block_first_.assign(1, 0);
+  for (size_t points : block_points) stored.block_first_.push_back(stored.block_first_.back() + points);
+  stored.points_ = stored.block_first_.back();
+  if (values.size() != stored.points_ * static_cast<size_t>(channels)) {
+    throw std::logic_error(fmt::format("StoredValues::encode: {} values for {} points of {} channels", values.size(),
+                                       stored.points_, channels));
+  }
+  const size_t light_samples = block_points.size();
   stored.scales_.assign(light_samples, 1.0f);
   stored.bytes_.resize(values.size() * precision_bytes(precision));
   for (size_t sample = 0; sample < light_samples; ++sample) {
-    const float* input = values.data() + sample * block;
+    const size_t first = stored.block_first_[sample] * static_cast<size_t>(channels);
+    const size_t block = block_points[sample] * static_cast<size_t>(channels);
+    const float* input = values.data() + first;
     switch (precision) {
       case Precision::float32:
-        std::memcpy(stored.bytes_.data() + sample * block * 4, input, block * 4);
+        if (block > 0) std::memcpy(stored.bytes_.data() + first * 4, input, block * 4);
         break;
       case Precision::float16: {
-        uint16_t* output = reinterpret_cast<uint16_t*>(stored.bytes_.data()) + sample * block;
+        uint16_t* output = reinterpret_cast<uint16_t*>(stored.bytes_.data()) + first;
         for (size_t i = 0; i < block; ++i) {
           output[i] = float_to_half(input[i]);
           if (std::isinf(half_to_float(output[i]))) {
@@ -93,7 +109,7 @@ StoredValues StoredValues::encode(Precision precision, int channels, bool signed
         const float levels = signed_channels ? 127.0f : 255.0f;
         const float step = largest > 0.0f ? largest / levels : 1.0f;
         stored.scales_[sample] = step;
-        uint8_t* output = stored.bytes_.data() + sample * block;
+        uint8_t* output = stored.bytes_.data() + first;
         for (size_t i = 0; i < block; ++i) {
           float level = std::round(input[i] / step);
           level = std::clamp(level, signed_channels ? -127.0f : 0.0f, levels);
@@ -112,23 +128,38 @@ StoredValues StoredValues::encode(Precision precision, int channels, bool signed
 }
 
 std::vector<float> StoredValues::decode(size_t light_sample) const {
-  std::vector<float> values(points_ * channels_, 0.0f);
-  for (size_t point = 0; point < points_; ++point) add(light_sample, point, 1.0f, values.data() + point * channels_);
+  const size_t points = block_points(light_sample);
+  std::vector<float> values(points * channels_, 0.0f);
+  for (size_t point = 0; point < points; ++point) add(light_sample, point, 1.0f, values.data() + point * channels_);
   return values;
 }
 
 StoredValues StoredValues::from_raw(Precision precision, int channels, bool signed_channels, size_t points,
                                     std::vector<uint8_t> bytes, std::vector<float> scales) {
+  const size_t blocks = scales.size();
+  StoredValues stored =
+      from_raw(precision, channels, signed_channels, std::vector<size_t>(blocks, points), std::move(bytes), std::move(scales));
+  stored.block_first_.clear();
+  stored.points_ = points;
+  return stored;
+}
+
+StoredValues StoredValues::from_raw(Precision precision, int channels, bool signed_channels,
+                                    const std::vector<size_t>& block_points, std::vector<uint8_t> bytes,
+                                    std::vector<float> scales) {
   StoredValues stored;
   stored.precision_ = precision;
   stored.channels_ = channels;
   stored.signed_ = signed_channels;
-  stored.points_ = points;
+  stored.block_first_.assign(1, 0);
+  for (size_t points : block_points) stored.block_first_.push_back(stored.block_first_.back() + points);
+  stored.points_ = stored.block_first_.back();
   stored.bytes_ = std::move(bytes);
   stored.scales_ = std::move(scales);
-  if (stored.bytes_.size() != stored.scales_.size() * stored.bytes_per_light_sample()) {
-    throw std::runtime_error(fmt::format("stored values: {} bytes for {} light samples of {} bytes", stored.bytes_.size(),
-                                         stored.scales_.size(), stored.bytes_per_light_sample()));
+  const size_t expected = stored.points_ * static_cast<size_t>(channels) * precision_bytes(precision);
+  if (stored.scales_.size() != block_points.size() || stored.bytes_.size() != expected) {
+    throw std::runtime_error(fmt::format("stored values: {} bytes and {} scales for {} light samples of {} bytes in all",
+                                         stored.bytes_.size(), stored.scales_.size(), block_points.size(), expected));
   }
   return stored;
 }

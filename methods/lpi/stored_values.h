@@ -1,6 +1,8 @@
 // The sampled caustic of one object, for every light sample, in the precision the build asked for
 // (Wyman 2003 stored "colors of three bytes each"). One block per light sample; within a block,
-// `channels` values per sample point (cell centre or shell vertex), point after point. Values are
+// `channels` values per sample point (cell centre or shell vertex), point after point. Blocks hold
+// the same points, except where each light sample has a layout of its own (multires, a tree per
+// light sample): then each block its own count, one after the other. Values are
 // decoded where they are read, so memory_bytes() is what rendering really touches.
 #pragma once
 
@@ -32,12 +34,22 @@ class StoredValues {
   // as -127 .. 127); the scale per block is kept in float.
   static StoredValues encode(Precision precision, int channels, bool signed_channels, size_t points,
                              const std::vector<float>& values);
+  // Blocks of their own sizes: `block_points[b]` points in block b, the blocks one after the other.
+  static StoredValues encode(Precision precision, int channels, bool signed_channels,
+                             const std::vector<size_t>& block_points, const std::vector<float>& values);
 
   Precision precision() const { return precision_; }
   int channels() const { return channels_; }
+  // Points of every block; with blocks of their own sizes, of all blocks together.
   size_t points() const { return points_; }
   size_t light_samples() const { return scales_.size(); }
+  bool uniform_blocks() const { return block_first_.empty(); }
+  // Points of one block.
+  size_t block_points(size_t light_sample) const {
+    return block_first_.empty() ? points_ : block_first_[light_sample + 1] - block_first_[light_sample];
+  }
   size_t memory_bytes() const { return bytes_.size() + scales_.size() * sizeof(float); }
+  // Bytes of one block of uniform blocks.
   size_t bytes_per_light_sample() const { return points_ * channels_ * precision_bytes(precision_); }
 
   // Adds weight * value of `point` of `light_sample` to out[0 .. channels).
@@ -52,6 +64,9 @@ class StoredValues {
   const std::vector<float>& scales() const { return scales_; }
   static StoredValues from_raw(Precision precision, int channels, bool signed_channels, size_t points,
                                std::vector<uint8_t> bytes, std::vector<float> scales);
+  static StoredValues from_raw(Precision precision, int channels, bool signed_channels,
+                               const std::vector<size_t>& block_points, std::vector<uint8_t> bytes,
+                               std::vector<float> scales);
   bool signed_channels() const { return signed_; }
 
  private:
@@ -59,6 +74,9 @@ class StoredValues {
   int channels_ = 0;
   bool signed_ = false;
   size_t points_ = 0;
+  // Blocks of their own sizes: block b's first point (b = 0 .. light samples; the last, all points).
+  // Empty when every block holds points_.
+  std::vector<size_t> block_first_;
   std::vector<uint8_t> bytes_;
   std::vector<float> scales_;  // per light sample: the uint8 step; 1 otherwise
 };
@@ -114,7 +132,8 @@ struct StoredDecoding {
 };
 
 inline SampleBlock StoredValues::block(size_t light_sample) const {
-  return SampleBlock{bytes_.data() + light_sample * bytes_per_light_sample(), scales_[light_sample]};
+  const size_t first = block_first_.empty() ? light_sample * points_ : block_first_[light_sample];
+  return SampleBlock{bytes_.data() + first * channels_ * precision_bytes(precision_), scales_[light_sample]};
 }
 
 inline void StoredValues::add(size_t light_sample, size_t point, float weight, float* out) const {

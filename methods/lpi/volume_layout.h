@@ -61,6 +61,9 @@ class VolumeLayout {
   virtual size_t deposit_points() const { return points(); }
   virtual bool adaptive() const { return false; }
   virtual std::vector<float> adapt(const std::vector<float>& deposited, int channels) { return deposited; }
+  // Sample points of each of `blocks` light samples' blocks: points() each, unless an adaptive
+  // layout fits each light sample apart (multires, a tree per light sample).
+  virtual std::vector<size_t> block_points(size_t blocks) const { return std::vector<size_t>(blocks, points()); }
   // What adapt() decided, for the build cache, and bytes of the table the values cannot be read
   // without (counted with each light sample's values, which it indexes).
   virtual std::vector<uint32_t> structure() const { return {}; }
