@@ -17,7 +17,7 @@ namespace {
 
 using simd::Avx2;
 
-// AVX2 and F16C (float16 values). Every AVX2 processor made has F16C, but both are checked.
+// AVX2 and F16C (float16 values); AVX2 processors have F16C in practice, but both are checked.
 #define LANES_TARGET __attribute__((target("avx2,f16c")))
 bool lanes_available() {
   static const bool available = simd::has_avx2() && __builtin_cpu_supports("f16c");
@@ -28,7 +28,7 @@ using Lanes = __m256i;
 constexpr int kWidth = 8;
 
 // One unrotated read as the lanes take it: its block, weight and uint8 step, and the last byte
-// offset (from the block's first byte) at which a 4-byte gather stays inside the stored values.
+// offset (from the block's first byte) at which uint8's 4-byte gathers stay inside the stored values.
 struct LaneRead {
   const uint8_t* bytes = nullptr;
   float weight = 0.0f;
