@@ -13,10 +13,12 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <type_traits>
 
 #include <gtest/gtest.h>
 
 #include "core/parallel.h"
+#include "methods/common/simd_lanes.h"
 #include "methods/lifecycle.h"
 #include "methods/lpi/grid_layout.h"
 #include "methods/lpi/lookup.h"
@@ -230,8 +232,12 @@ std::vector<std::vector<LightView>> light_cases() {
   };
 }
 
+// Every storage, blend shape and `outside` through add_object_caustic (on a grid of resolution 2 or
+// more, the AVX2 lanes where the processor has them and no read is rotated) and through the scalar
+// lookup alone, each against the reference. Returns how many cases the lanes took.
 template <class Layout>
-void expect_lookup_equals_reference(const Layout& layout, const char* name) {
+int expect_lookup_equals_reference(const Layout& layout, const char* name) {
+  int lane_cases = 0;
   const GBuffer gbuffer = random_receivers(23, 17, 3);
   BuildSpaceMap map;
   // A turn and a scale, as an object's pose gives (normals are normalised after, so a turn serves).
@@ -256,27 +262,94 @@ void expect_lookup_equals_reference(const Layout& layout, const char* name) {
     for (size_t c = 0; c < cases.size(); ++c) {
       for (Outside outside : {Outside::clamp, Outside::fade, Outside::zero}) {
         const ObjectView view{values, map, cases[c].data(), cases[c].size(), outside};
-        Image fast(gbuffer.width, gbuffer.height, 3, 0.25f), reference(gbuffer.width, gbuffer.height, 3, 0.25f);
+        Image fast(gbuffer.width, gbuffer.height, 3, 0.25f), scalar(gbuffer.width, gbuffer.height, 3, 0.25f),
+            reference(gbuffer.width, gbuffer.height, 3, 0.25f);
         add_object_caustic(layout, view, gbuffer, 0, gbuffer.pixel_count(), fast);
+        add_object_caustic_scalar(layout, view, gbuffer, 0, gbuffer.pixel_count(), scalar);
         reference_caustic(layout, view, gbuffer, reference);
-        size_t different = 0, lit = 0;
+        if constexpr (std::is_same_v<Layout, GridLayout>) lane_cases += grid_lanes_apply(layout, view);
+        size_t different = 0, different_scalar = 0, lit = 0;
         for (size_t i = 0; i < fast.values().size(); ++i) {
           different += std::memcmp(&fast.values()[i], &reference.values()[i], sizeof(float)) != 0;
+          different_scalar += std::memcmp(&scalar.values()[i], &reference.values()[i], sizeof(float)) != 0;
           lit += reference.values()[i] != 0.25f;
         }
         EXPECT_EQ(different, 0u) << name << ", " << precision_name(storage.precision) << ", "
                                  << (signed_channels ? "vector" : "paper") << ", light case " << c;
+        EXPECT_EQ(different_scalar, 0u) << name << " (scalar), " << precision_name(storage.precision) << ", "
+                                        << (signed_channels ? "vector" : "paper") << ", light case " << c;
         EXPECT_GT(lit, fast.values().size() / 8) << name << ": the case should light many pixels";
       }
     }
   }
+  return lane_cases;
 }
 
 }  // namespace
 
 TEST(LpiFastPaths, GridLookupEqualsReadingEachSampleAlone) {
-  expect_lookup_equals_reference(GridLayout(Vec3(0.0f), 1.0f, 7), "grid 7");
-  expect_lookup_equals_reference(GridLayout(Vec3(0.1f, 0.0f, -0.1f), 0.9f, 1), "grid 1");
+  const int lane_cases = expect_lookup_equals_reference(GridLayout(Vec3(0.0f), 1.0f, 7), "grid 7");
+  // Six storages x three `outside` x the three unrotated light cases (nearest, barycentric, edge).
+  std::vector<float> probe;
+  const bool lanes = decode_in_lanes(StoredValues::encode(Precision::float32, 3, false, 1, {1.0f, 2.0f, 3.0f}), 0, probe);
+  if (lanes && std::getenv("CAUSTICBENCH_LPI_SCALAR_LOOKUP") == nullptr) {
+    EXPECT_EQ(lane_cases, 6 * 3 * 3);
+  }
+  EXPECT_EQ(expect_lookup_equals_reference(GridLayout(Vec3(0.1f, 0.0f, -0.1f), 0.9f, 1), "grid 1"), 0);
+}
+
+// The lanes' gathers and decoding against StoredDecoding::value, bit for bit: every float16 pattern
+// but the signalling NaNs (subnormals, zeros of both signs, infinities and quiet NaNs among them;
+// F16C quiets a signalling NaN, and float_to_half never stores one), every uint8 level signed and
+// unsigned, float32 bits, for both channel counts, over point counts that leave a partial group of
+// eight and end the stored values on the last point (the 4-byte gathers' clamp at the end).
+TEST(LpiFastPaths, LaneDecodingEqualsStoredValuesDecode) {
+  std::vector<float> probe;
+  if (!decode_in_lanes(StoredValues::encode(Precision::float32, 3, false, 1, {1.0f, 2.0f, 3.0f}), 0, probe))
+    GTEST_SKIP() << "no AVX2 and F16C: the lanes are not used";
+  std::mt19937 random(17);
+  for (int channels : {3, 9}) {
+    for (size_t points : {size_t{1}, size_t{13}, size_t{2731}}) {
+      const size_t samples = 3, values = samples * points * static_cast<size_t>(channels);
+      struct Case {
+        Precision precision;
+        bool signed_channels;
+      };
+      for (const Case& kind : {Case{Precision::float16, false}, Case{Precision::uint8, false}, Case{Precision::uint8, true},
+                               Case{Precision::float32, false}}) {
+        std::vector<uint8_t> bytes(values * precision_bytes(kind.precision));
+        for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<uint8_t>(random());
+        if (kind.precision == Precision::float16) {
+          // Every half pattern, in order, as far as the values go (2731 points x 9 x 3 > 65536).
+          for (size_t i = 0; i < values; ++i) {
+            uint16_t half = static_cast<uint16_t>(i);
+            if ((half & 0x7c00u) == 0x7c00u && (half & 0x3ffu) != 0) half |= 0x200u;  // a quiet NaN
+            std::memcpy(bytes.data() + 2 * i, &half, sizeof(half));
+          }
+        }
+        const std::vector<float> scales = {0.5f, 1.0f / 127.0f, 3.0f};
+        const StoredValues stored = StoredValues::from_raw(kind.precision, channels, kind.signed_channels, points,
+                                                           bytes, scales);
+        for (size_t sample = 0; sample < samples; ++sample) {
+          std::vector<float> lanes;
+          ASSERT_TRUE(decode_in_lanes(stored, sample, lanes));
+          // Decoding's value() (what the scalar lookup multiplies by its factor), not decode()'s scaled floats.
+          std::vector<float> expected(points * static_cast<size_t>(channels));
+          with_decoding(stored, [&](auto decoding) {
+            using Decoding = decltype(decoding);
+            const SampleBlock block = stored.block(sample);
+            for (size_t point = 0; point < points; ++point)
+              for (int c = 0; c < channels; ++c)
+                expected[point * channels + c] = Decoding::value(Decoding::at(block, point, channels), c);
+          });
+          ASSERT_EQ(lanes.size(), expected.size());
+          EXPECT_EQ(std::memcmp(lanes.data(), expected.data(), expected.size() * sizeof(float)), 0)
+              << precision_name(kind.precision) << (kind.signed_channels ? " signed" : "") << ", " << channels
+              << " channels, " << points << " points, light sample " << sample;
+        }
+      }
+    }
+  }
 }
 
 TEST(LpiFastPaths, ShellAndMultiresLookupsEqualReadingEachSampleAlone) {
@@ -301,9 +374,10 @@ TEST(LpiFastPaths, ShellAndMultiresLookupsEqualReadingEachSampleAlone) {
 // ring under its turning sun, frame 1, 360 x 360, 42 light samples of 100,000 photons, every storage
 // and blend. Prints per frame the best wall time of 20 renders and the CPU time per render (the
 // machine is shared: CPU time is what the code costs), at 1 and 2 threads. Builds are kept in
-// /tmp/lpi_lookup_throughput_builds between runs. LPI_STORAGES=grid,shells,multires and
+// /tmp/lpi_lookup_throughput_builds between runs. LPI_STORAGES=grid,shells,multires,sh and
 // LPI_PRECISIONS=float32,float16,uint8 choose what is measured (default: every storage, float32),
-// LPI_RENDERS the renders timed (20).
+// LPI_RENDERS the renders timed (20). CAUSTICBENCH_LPI_SCALAR_LOOKUP=1 measures the grid's scalar
+// lookup (the code before the lanes) in the same binary.
 // Run: build/tests/test_lpi_fast_paths --gtest_also_run_disabled_tests --gtest_filter='*LookupThroughput*'
 TEST(LpiFastPaths, DISABLED_LookupThroughputOnTheTurningRing) {
   // One thread: that thread's CPU time (the lookup alone); two: the process's (TBB's workers spin a
@@ -332,22 +406,26 @@ TEST(LpiFastPaths, DISABLED_LookupThroughputOnTheTurningRing) {
     }
     return items;
   };
-  const std::vector<std::string> storages = list("LPI_STORAGES", {"grid", "shells", "multires"});
+  const std::vector<std::string> storages = list("LPI_STORAGES", {"grid", "shells", "multires", "sh"});
   const std::vector<std::string> precisions = list("LPI_PRECISIONS", {"float32"});
   std::printf("%-8s %-8s %-11s %7s %9s %9s %10s %10s %10s\n", "storage", "values", "blend", "threads", "reads/pt",
               "best ms", "CPU ms", "M pts/s", "M pts/CPUs");
   for (const std::string& storage : storages) {
     for (const std::string& precision : precisions) {
       std::unique_ptr<CausticMethod> method;
-      for (const std::string blend : {"nearest", "barycentric", "aligned"}) {
+      // storage: sh reads one coefficient stencil a light (blend and light_samples are not its knobs).
+      const std::vector<std::string> blends =
+          storage == "sh" ? std::vector<std::string>{"-"} : std::vector<std::string>{"nearest", "barycentric", "aligned"};
+      for (const std::string& blend : blends) {
         RenderRequest request;
         request.scene = &scene;
         request.method = "lpi";
         request.frame = frame_index;
-        for (const std::string& knob : std::vector<std::string>{"storage=" + storage, "precision=" + precision, "light_samples=all",
-                                        "light_subdivision=1", "photons_per_sample=100000", "blend=" + blend}) {
-          request.params.set_assignment(knob, "benchmark");
-        }
+        std::vector<std::string> knobs = {"storage=" + storage, "precision=" + precision, "light_subdivision=1",
+                                          "photons_per_sample=100000"};
+        // sh always projects every geodesic vertex; the sampled storages are told to keep all 42.
+        if (blend != "-") knobs.insert(knobs.end(), {"light_samples=all", "blend=" + blend});
+        for (const std::string& knob : knobs) request.params.set_assignment(knob, "benchmark");
         const CheckedRequest checked = check_request(request);
         const PhaseKnobs phases = split_phases(checked.params, checked.method->info().params);
         if (!method) {

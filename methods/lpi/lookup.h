@@ -10,6 +10,7 @@
 
 #include "core/gbuffer.h"
 #include "core/image.h"
+#include "methods/lpi/grid_lanes.h"
 #include "methods/lpi/grid_layout.h"
 #include "methods/lpi/light_samples.h"
 #include "methods/lpi/multires_layout.h"
@@ -202,11 +203,12 @@ void add_object_caustic_decoded(const Layout& layout, const ObjectView& view, co
   }
 }
 
-// Adds one object's caustic to `result` for pixels [begin, end): the decoding of its stored values
-// chosen once per block of pixels, not per value.
+// Adds one object's caustic to `result` for pixels [begin, end), one receiver point at a time: the
+// decoding of its stored values chosen once per block of pixels, not per value. What processors
+// without AVX2 run, and the lanes' second implementation in test_lpi_fast_paths.cpp.
 template <class Layout>
-void add_object_caustic(const Layout& layout, const ObjectView& view, const GBuffer& gbuffer, size_t begin, size_t end,
-                        Image& result) {
+void add_object_caustic_scalar(const Layout& layout, const ObjectView& view, const GBuffer& gbuffer, size_t begin,
+                               size_t end, Image& result) {
   if constexpr (std::is_same_v<Layout, MultiresLayout>) {
     if (layout.per_sample()) {
       with_decoding(view.values, [&](auto decoding) {
@@ -218,6 +220,17 @@ void add_object_caustic(const Layout& layout, const ObjectView& view, const GBuf
   with_decoding(view.values, [&](auto decoding) {
     add_object_caustic_decoded<Layout, decltype(decoding)>(layout, view, gbuffer, begin, end, result);
   });
+}
+
+// Adds one object's caustic to `result` for pixels [begin, end): on a grid, eight receiver points at
+// a time in AVX2 lanes where grid_lanes_apply() allows (the same bits), else the scalar lookup.
+template <class Layout>
+void add_object_caustic(const Layout& layout, const ObjectView& view, const GBuffer& gbuffer, size_t begin, size_t end,
+                        Image& result) {
+  if constexpr (std::is_same_v<Layout, GridLayout>) {
+    if (grid_lanes_apply(layout, view)) return add_grid_caustic_lanes(layout, view, gbuffer, begin, end, result);
+  }
+  add_object_caustic_scalar(layout, view, gbuffer, begin, end, result);
 }
 
 }  // namespace causticbench::lpi
