@@ -117,9 +117,10 @@ struct RandomTile {
   Vec3 points[kTilePoints], normals[kTilePoints];
   float footprints[kTilePoints];
   PointTile tile;
+  TileRays rays;  // the tile's candidate rays of `lanes` (tile_rays), which both lanes tests compare on
 };
-RandomTile random_tile(const SpotLight& light, const EvaluationSettings& settings, int tile_index, float spread,
-                       std::mt19937& random) {
+RandomTile random_tile(const SpotLight& light, const LightLanes& lanes, const EvaluationSettings& settings,
+                       int tile_index, float spread, std::mt19937& random) {
   std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
   RandomTile made;
   made.count = 1 + tile_index % kTilePoints;
@@ -130,6 +131,7 @@ RandomTile random_tile(const SpotLight& light, const EvaluationSettings& setting
     made.footprints[j] = 0.03f * (uniform(random) + 1.0f);
   }
   made.tile = make_tile(made.points, made.normals, made.footprints, made.count, settings);
+  tile_rays(lanes, made.tile, made.rays);
   return made;
 }
 
@@ -229,9 +231,8 @@ TEST(CslLanes, AgreeWithTheScalarEvaluationPointByPoint) {
         const LightLanes lanes = light_lanes(light, light.image.max_radius(), correction);
         for (int tile_index = 0; tile_index < 200; ++tile_index) {
           // Mostly within a few radii of the axis; some on the axis.
-          const RandomTile t = random_tile(light, settings, tile_index, tile_index % 5 == 0 ? 0.01f : 2.0f, random);
-          TileRays rays;
-          tile_rays(lanes, t.tile, rays);
+          const RandomTile t = random_tile(light, lanes, settings, tile_index, tile_index % 5 == 0 ? 0.01f : 2.0f, random);
+          const TileRays& rays = t.rays;
           for (size_t j = 0; j < t.count; ++j) {
             float scalar[3] = {0.0f, 0.0f, 0.0f}, vector[3] = {0.0f, 0.0f, 0.0f};
             light.evaluate(t.points[j], t.normals[j], t.footprints[j], settings, scalar);
@@ -276,9 +277,8 @@ TEST(CslLanes, GatheredLookupsAreTheSameBitForBit) {
       settings.axis_epsilon = 0.02;
       const LightLanes lanes = light_lanes(light, light.image.max_radius(), true);
       for (int tile_index = 0; tile_index < 400; ++tile_index) {
-        const RandomTile t = random_tile(light, settings, tile_index, tile_index % 7 == 0 ? 0.02f : 2.5f, random);
-        TileRays rays;
-        tile_rays(lanes, t.tile, rays);
+        const RandomTile t = random_tile(light, lanes, settings, tile_index, tile_index % 7 == 0 ? 0.02f : 2.5f, random);
+        const TileRays& rays = t.rays;
         float gathered[kTilePoints] = {};
         tile_lookups(light.image, rays, t.count, gathered);
         for (size_t j = 0; j < t.count; ++j) {
