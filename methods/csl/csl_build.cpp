@@ -26,6 +26,10 @@ std::optional<nlohmann::json> CslMethod::build_dependencies(const PrepareContext
     if (plan.dynamic[i]) {
       directions["level"] = plan.dynamic[i]->level;
       directions["facets"] = plan.facets[i];
+      // Which matching made the pairs and triples (methods/csl/tracking.h), so that a build stored by
+      // an earlier one is computed again, not loaded: 2 since axes are compared at the point nearest
+      // the object's centre with their convergence angles.
+      directions["matching"] = 2;
     } else {
       nlohmann::json list = nlohmann::json::array();
       for (const Vec3& d : plan.static_directions[i]) list.push_back({d.x, d.y, d.z});

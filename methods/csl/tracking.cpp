@@ -31,11 +31,34 @@ BundleAxis axis_of(const SpotLight& light) { return BundleAxis{glm::dvec3(light.
 
 }  // namespace
 
-double axis_distance(const BundleAxis& first, const BundleAxis& second, const BoundingSphere& bounds) {
-  const glm::dvec3 b0 = first.origin, b1 = second.origin;
+double axis_distance(const BundleAxis& first, double first_convergence, const BundleAxis& second,
+                     double second_convergence, const BoundingSphere& bounds) {
+  const glm::dvec3 centre(bounds.center);
+  const glm::dvec3 b0 = nearest_on_axis(first, centre), b1 = nearest_on_axis(second, centre);
   const double diameter = 2.0 * bounds.radius;
   const glm::dvec3 turned = first.direction - second.direction;
-  return std::sqrt(glm::dot(b0 - b1, b0 - b1) + diameter * diameter * glm::dot(turned, turned));
+  const double converged = first_convergence - second_convergence;
+  return std::sqrt(glm::dot(b0 - b1, b0 - b1) + diameter * diameter * (glm::dot(turned, turned) + converged * converged));
+}
+
+double convergence_angle(const SpotLight& light) {
+  if (light.image.size() == 0) return 0.0;
+  const int channels = light.image.channels();
+  auto flux_within = [&](double r) {
+    double flux[3] = {0.0, 0.0, 0.0}, sum = 0.0;
+    light.image.flux_within(r, flux);
+    for (int c = 0; c < channels; ++c) sum += flux[c];
+    return sum;
+  };
+  const double total = flux_within(light.image.max_radius());
+  if (!(total > 0.0)) return 0.0;
+  double low = 0.0, high = light.image.max_radius();
+  for (int step = 0; step < 50; ++step) {
+    const double middle = 0.5 * (low + high);
+    (flux_within(middle) < 0.5 * total ? low : high) = middle;
+  }
+  const double r = 0.5 * (low + high);
+  return std::atan(r * light.profile.g(r));
 }
 
 SpotLight black_spot_light(const SpotLight& like, const BundleAxis& axis) {
@@ -61,6 +84,9 @@ std::vector<BundleAxis> track_axes(const Tracer& tracer, const BoundingSphere& b
   for (int step = 1; step <= settings.steps; ++step) {
     const Vec3 direction = step == settings.steps ? to_light : slerp(set.direction, to_light, double(step) / settings.steps);
     const ObjectRays rays = trace_object_rays(tracer, bounds, direction, settings.rays_per_side, settings.tree);
+    // Every axis refines on every ray. Taking each bundle's rays out before the next refined (as
+    // extraction does) paired the slices of one converging field that extraction cuts on a mesh, and
+    // the interpolated frames flickered more for it (see the README, "Tracking order").
     const std::vector<uint8_t> active(rays.rays.size(), 1);
     for (size_t i = 0; i < axes.size(); ++i) {
       const Bundle bundle = refine_bundle(rays.rays, active, axes[i], settings.bundle);
@@ -70,11 +96,13 @@ std::vector<BundleAxis> track_axes(const Tracer& tracer, const BoundingSphere& b
         stuck[i] = 1;
         continue;
       }
-      // The new axis, with the light plane's origin kept at the point of it nearest the old origin,
-      // so that the plane moves continuously.
+      // The new axis, with the light plane's origin as far along it from the point nearest the
+      // object's centre as it was along the old one.
+      const glm::dvec3 centre(bounds.center);
+      const double along = glm::dot(axes[i].origin - centre, axes[i].direction);
       BundleAxis moved;
       moved.direction = bundle.axis.direction;
-      moved.origin = nearest_on_axis(bundle.axis, axes[i].origin);
+      moved.origin = nearest_on_axis(bundle.axis, centre) + along * moved.direction;
       axes[i] = moved;
     }
   }
@@ -87,10 +115,14 @@ EdgeMatch match_neighbours(const Tracer& tracer, const BoundingSphere& bounds, c
   EdgeMatch match;
   const std::vector<BundleAxis> moved = track_axes(tracer, bounds, first, second.direction, settings, match.tracked_lost);
   // Every candidate pair within the threshold, nearest first (ties by index, so the order is fixed).
+  std::vector<double> first_convergence, second_convergence;
+  for (const SpotLight& light : first.lights) first_convergence.push_back(convergence_angle(light));
+  for (const SpotLight& light : second.lights) second_convergence.push_back(convergence_angle(light));
   std::vector<std::tuple<double, int, int>> candidates;
   for (size_t i = 0; i < moved.size(); ++i) {
     for (size_t j = 0; j < second.lights.size(); ++j) {
-      const double distance = axis_distance(moved[i], axis_of(second.lights[j]), bounds);
+      const double distance =
+          axis_distance(moved[i], first_convergence[i], axis_of(second.lights[j]), second_convergence[j], bounds);
       if (distance <= settings.match_distance) candidates.emplace_back(distance, static_cast<int>(i), static_cast<int>(j));
     }
   }

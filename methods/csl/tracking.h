@@ -26,11 +26,19 @@ struct TrackingSettings {
   double match_distance = 1.0;    // scene units: pairs farther apart stay unmatched
 };
 
-// The axis distance of the paper, dist(A0, A1) = sqrt(|b0 - b1|^2 + B |a0 - a1|^2), with b the spot
-// light's light plane origin (the paper says "position" of the axis; a point fixed by the axis alone
-// could not tell apart the coaxial spot lights a lens makes, one per ring of its aperture) and B the
-// square of the bounding sphere's diameter (B must be an area for the sum to have one unit).
-double axis_distance(const BundleAxis& first, const BundleAxis& second, const BoundingSphere& bounds);
+// The axis distance of the paper, dist(A0, A1) = sqrt(|b0 - b1|^2 + B |a0 - a1|^2), with B the
+// square of the bounding sphere's diameter (B must be an area for the sum to have one unit) and b the
+// point of each axis nearest the object's centre: where along its axis a spot light's plane lies is
+// the fit's choice (Eq. 5 is not convex in l), not the bundle's, and the paper's "position" of an axis
+// must not depend on it. Coaxial spot lights (a lens makes one per ring of its aperture) are told apart
+// by a third term, B (theta0 - theta1)^2, theta the angle at which the ray carrying the median of a
+// spot light's flux converges on its axis (convergence_angle), which the plane's position does not change.
+double axis_distance(const BundleAxis& first, double first_convergence, const BundleAxis& second,
+                     double second_convergence, const BoundingSphere& bounds);
+
+// The signed angle (radians; negative: diverging) between the axis and the ray that leaves the light
+// plane at the radius holding half of the spot light's flux; 0 for a black image.
+double convergence_angle(const SpotLight& light);
 
 // One matched pair on an edge: the spot lights' indices in their sets, or ~k (negative) for the k-th
 // black spot light this match made on that side.
@@ -51,7 +59,10 @@ struct EdgeMatch {
 EdgeMatch match_neighbours(const Tracer& tracer, const BoundingSphere& bounds, const SpotLightSet& first,
                            const SpotLightSet& second, const TrackingSettings& settings);
 
-// The axes of `set`'s spot lights moved from its direction to `to_light` in `settings.steps` steps.
+// The axes of `set`'s spot lights moved from its direction to `to_light` in `settings.steps` steps. A
+// moved axis keeps its light plane origin at the same signed distance along the axis from the point
+// nearest the object's centre (the nearest point of each new axis to the old origin drifted by up to
+// four bounding radii over 20 steps on the bunny).
 std::vector<BundleAxis> track_axes(const Tracer& tracer, const BoundingSphere& bounds, const SpotLightSet& set,
                                    const Vec3& to_light, const TrackingSettings& settings, int& lost);
 
