@@ -42,19 +42,13 @@ const std::set<std::string> kMustStop = {"lpi one cell",          "lpi multires 
                                          "csl distance threshold 1e-6", "csl angle threshold 0", "csl fit tolerance 0"};
 
 // "(defaults 0.95, 0.3, 90, 0.3)": csl's energy_coverage, distance_threshold, angle_threshold and
-// fit_tolerance as its knob declarations give them.
+// fit_tolerance as its knob declarations give them (no knob set, resolved).
 std::string csl_declared_defaults() {
-  std::string text = "(defaults ";
-  const char* names[] = {"energy_coverage", "distance_threshold", "angle_threshold", "fit_tolerance"};
-  for (const char* name : names) {
-    for (const ParamSpec& spec : find_method("csl").info().params) {
-      if (spec.name != name) continue;
-      std::ostringstream value;
-      value << std::get<double>(spec.default_value);
-      text += value.str() + (name == names[3] ? ")" : ", ");
-    }
-  }
-  return text;
+  const ParamSet defaults = ParamDict().resolve(find_method("csl").info().params, "csl");
+  std::ostringstream text;
+  text << "(defaults " << defaults.real("energy_coverage") << ", " << defaults.real("distance_threshold") << ", "
+       << defaults.real("angle_threshold") << ", " << defaults.real("fit_tolerance") << ")";
+  return text.str();
 }
 
 TEST(Extremes, EveryMethodAndCaseHasAFiniteResultOrAClearError) {

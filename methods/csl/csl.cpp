@@ -134,21 +134,17 @@ void CslMethod::check_some_spot_light(const std::string& object, const std::vect
     ray_energy += set.ray_energy;
   }
   if (!(ray_energy > 0.0)) return;
-  // The defaults named in the advice are read from the knobs' declarations, so they stay true when a
-  // default changes (distance_threshold did, from 0.1 to 0.3).
-  auto default_of = [](const char* name) {
-    for (const ParamSpec& spec : static_info().params)
-      if (spec.name == name) return std::get<double>(spec.default_value);
-    throw std::logic_error(std::string("csl declares no knob ") + name);
-  };
+  // The defaults named in the advice are the knobs' declared ones (no knob set, resolved), so they stay
+  // true when a default changes (distance_threshold did, from 0.1 to 0.3).
+  const ParamSet defaults = ParamDict().resolve(static_info().params, "csl");
   throw InputError(fmt::format(
       "csl made no caustic spot light for object '{}' in any of its {} light direction(s), though its rays carry "
       "caustic light: the build knobs dismissed every bundle (energy_coverage {}, distance_threshold {}, "
       "angle_threshold {}, fit_tolerance {}); its image would be black. Raise energy_coverage above 0 or the "
       "thresholds (defaults {}, {}, {}, {})",
       object, sets.size(), build.real("energy_coverage"), build.real("distance_threshold"),
-      build.real("angle_threshold"), build.real("fit_tolerance"), default_of("energy_coverage"),
-      default_of("distance_threshold"), default_of("angle_threshold"), default_of("fit_tolerance")));
+      build.real("angle_threshold"), build.real("fit_tolerance"), defaults.real("energy_coverage"),
+      defaults.real("distance_threshold"), defaults.real("angle_threshold"), defaults.real("fit_tolerance")));
 }
 
 void CslMethod::count_rays() {
