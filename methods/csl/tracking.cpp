@@ -81,6 +81,7 @@ std::vector<BundleAxis> track_axes(const Tracer& tracer, const BoundingSphere& b
   std::vector<uint8_t> stuck(axes.size(), 0);
   lost = 0;
   if (axes.empty()) return axes;
+  const glm::dvec3 centre(bounds.center);
   for (int step = 1; step <= settings.steps; ++step) {
     const Vec3 direction = step == settings.steps ? to_light : slerp(set.direction, to_light, double(step) / settings.steps);
     const ObjectRays rays = trace_object_rays(tracer, bounds, direction, settings.rays_per_side, settings.tree);
@@ -98,7 +99,6 @@ std::vector<BundleAxis> track_axes(const Tracer& tracer, const BoundingSphere& b
       }
       // The new axis, with the light plane's origin as far along it from the point nearest the
       // object's centre as it was along the old one.
-      const glm::dvec3 centre(bounds.center);
       const double along = glm::dot(axes[i].origin - centre, axes[i].direction);
       BundleAxis moved;
       moved.direction = bundle.axis.direction;
