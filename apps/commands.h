@@ -15,6 +15,7 @@ struct RenderOptions {
   int threads = 0;
   std::string resolution;  // "WxH" or empty
   int direct_samples = 16;
+  int pixel_samples = 1;   // stratified points per pixel the method renders and averages (a square)
   std::string dump_frame;  // folder for causticbench-gpubench, or empty
   std::string build_cache;  // folder of stored builds (e.g. results/builds), or empty
 };

@@ -83,6 +83,11 @@ int run_summarize(const std::vector<std::string>& folders, const std::string& ou
 
 int run_status(const std::string& folder) {
   SweepStatus status = sweep_status(folder);
+  if (!status.plan_problem.empty()) {
+    fmt::print("warning: the shard plan is damaged ({}); counting the runs of experiment.json instead, without "
+               "shards (`causticbench slurm` writes the plan again)\n",
+               status.plan_problem);
+  }
   fmt::print("{} ({}): {} runs: {} stored ok, {} failed, {} pending\n", status.experiment, folder, status.all.total,
              status.all.ok, status.all.failed, status.all.pending);
   fmt::print("  {:<14} {:>6} {:>6} {:>7} {:>8}\n", "method", "runs", "ok", "failed", "pending");

@@ -40,6 +40,10 @@ int main(int argc, char** argv) {
   render_command->add_option("-r,--resolution", render.resolution, "override the camera resolution, WIDTHxHEIGHT");
   render_command->add_option("--direct-samples", render.direct_samples, "light samples per pixel for direct.exr")
       ->capture_default_str()->check(CLI::Range(1, 4096));
+  render_command->add_option("--pixel-samples", render.pixel_samples,
+                             "render the method at N stratified points per pixel (a square: 1, 4, 9, ...) and\n"
+                             "average them, as an experiment's pixel_samples does (docs/metrics.md)")
+      ->capture_default_str()->check(CLI::Range(1, 256));
   render_command->add_option("--build-cache", render.build_cache,
                              "folder of stored builds (e.g. results/builds): a method that precomputes loads its build\n"
                              "from there when stored and stores it otherwise (see docs/results-format.md)");

@@ -8,6 +8,8 @@
 #include "core/files.h"
 #include "core/image_statistics.h"
 #include "core/parallel.h"
+#include "experiments/result_store.h"
+#include "methods/lifecycle.h"
 #include "methods/method_runner.h"
 #include "metrics/caustic_presence.h"
 
@@ -58,6 +60,14 @@ int run_render(const RenderOptions& options) {
   request.method = options.method;
   request.frame = options.frame;
   request.dump_folder = options.dump_frame;
+  if (!valid_pixel_samples(options.pixel_samples)) {
+    throw InputError(fmt::format("--pixel-samples: expected a square number of points per pixel (1, 4, 9, ..., 256), found {}",
+                                 options.pixel_samples));
+  }
+  request.pixel_samples = options.pixel_samples;
+  // Checked like --results before any work: a file there, or a folder that cannot be written, would
+  // otherwise fail only after the build was computed.
+  if (!options.build_cache.empty()) check_writable_folder("--build-cache", "stored builds", options.build_cache);
   request.build_cache = options.build_cache;
   std::map<std::string, std::string> given;  // knob -> its --set, so that a repeated one is refused
   for (const std::string& assignment : options.assignments) {
@@ -126,6 +136,7 @@ static void render_and_write(const RenderOptions& options, const Scene& scene, c
       {"method", options.method},
       {"params", checked.params.to_json()},
       {"frame", options.frame},
+      {"pixel_samples", options.pixel_samples},
       {"resolution", {scene.camera.width, scene.camera.height}},
       {"receiver_pixels", result.gbuffer.receiver_count()},
       {"timings", {{"prepare_seconds", result.timings.prepare_seconds},

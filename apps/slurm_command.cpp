@@ -29,6 +29,36 @@ std::string shell_quoted(const std::string& text) {
   return result + "'";
 }
 
+// An #SBATCH argument: sbatch reads a directive's arguments as the shell would split words, with double
+// quotes around a word that holds spaces and a backslash before a quote or a backslash. A '%' starts one
+// of Slurm's file-name patterns (%j, %a, ...): a literal one in a path is written %%.
+// `literal_percent`: the text is a path, not a pattern. Returns the text to put between double quotes.
+std::string sbatch_escaped(const std::string& text, bool literal_percent) {
+  std::string result;
+  for (char c : text) {
+    if (c == '"' || c == '\\') result += '\\';
+    if (c == '%' && literal_percent) result += '%';
+    result += c;
+  }
+  return result;
+}
+
+// A path or name that a job script will hold: a control character (a newline above all, which would end
+// an #SBATCH line or a comment and run the rest as a command) can be neither quoted for sbatch nor kept
+// out of a comment, so it is refused, before anything is written.
+void check_job_text(const std::string& what, const std::string& text) {
+  for (unsigned char c : text) {
+    if (c < 0x20 || c == 0x7f) {
+      std::string shown;
+      for (unsigned char d : text) shown += d < 0x20 || d == 0x7f ? fmt::format("\\x{:02x}", d) : std::string(1, static_cast<char>(d));
+      throw InputError(fmt::format("{}: expected a path or name without control characters (a job script cannot hold "
+                                   "them: a newline would end its #SBATCH line and run the rest as a command), found "
+                                   "'{}'",
+                                   what, shown));
+    }
+  }
+}
+
 std::string this_program() {
   std::error_code error;
   fs::path path = fs::read_symlink("/proc/self/exe", error);
@@ -51,13 +81,16 @@ std::string resource_lines(const SlurmOptions& options) {
 
 void check_options(const SlurmOptions& options) {
   for (const std::string& line : options.sbatch_lines) {
-    if (line.find('\n') != std::string::npos || line.empty()) {
-      throw InputError(fmt::format("--sbatch: expected one option per line such as --qos=high, found '{}'", line));
-    }
+    if (line.empty()) throw InputError("--sbatch: expected one option per line such as --qos=high, found ''");
+    check_job_text("--sbatch", line);
   }
+  check_job_text("--results", fs::absolute(options.results).lexically_normal().string());
+  for (const std::string& file : options.experiments)
+    check_job_text("experiment file " + file, fs::absolute(file).lexically_normal().string());
+  check_job_text("this program's path", this_program());
   for (const auto& [name, value] : {std::pair{"--partition", options.partition}, {"--time", options.time},
                                     {"--mem", options.memory}, {"--account", options.account}}) {
-    if (value.find_first_of(" \t\n'\"") != std::string::npos) {
+    if (value.find_first_of(" \t\n\r'\"\\") != std::string::npos) {
       throw InputError(fmt::format("{}: expected a value without spaces or quotes, found '{}'", name, value));
     }
   }
@@ -81,8 +114,11 @@ JobFiles write_jobs(const SlurmOptions& options, const Experiment& experiment, c
   // sbatch reads #SBATCH lines only up to the first command: every one of them comes first.
   auto header = [&](const std::string& what, const std::string& job, const std::string& log, const std::string& more = "") {
     return fmt::format("#!/bin/bash\n# {} of experiment {} ({}), written by `causticbench slurm`; edit freely.\n"
-                       "#SBATCH --job-name=cb-{}-{}\n#SBATCH --output={}/{}\n{}{}set -euo pipefail\n",
-                       what, experiment.name, experiment_file, experiment.name, job, logs, log, more, common);
+                       "#SBATCH {}\n#SBATCH {}\n{}{}set -euo pipefail\n",
+                       what, experiment.name, experiment_file,
+                       "\"--job-name=" + sbatch_escaped(fmt::format("cb-{}-{}", experiment.name, job), false) + "\"",
+                       // The job's own patterns (%j, %a, %A) stay patterns; the folder's '%' are literal.
+                       "\"--output=" + sbatch_escaped(logs, true) + "/" + log + "\"", more, common);
   };
   write_text_atomically(folder + "/prepare.sbatch",
                         header("Every missing reference and build", "prepare", "prepare-%j.out") +
@@ -127,7 +163,10 @@ int run_slurm(const SlurmOptions& options) {
   check_results_folder(options.results);
   // Every experiment is loaded and checked before anything is written.
   std::vector<Experiment> experiments;
-  for (const std::string& file : options.experiments) experiments.push_back(load_experiment(file));
+  for (const std::string& file : options.experiments) {
+    experiments.push_back(load_experiment(file));
+    check_job_text("experiment name", experiments.back().name);
+  }
   ResultPaths paths{options.results};
   for (size_t i = 0; i < experiments.size(); ++i) {
     const Experiment& experiment = experiments[i];

@@ -136,10 +136,10 @@ CameraFrame::CameraFrame(const Camera& camera, double frame)
                      : static_cast<float>(camera.view_height * 0.5);
 }
 
-Ray CameraFrame::primary_ray(int x, int y) const {
+Ray CameraFrame::primary_ray(int x, int y, float offset_x, float offset_y) const {
   float aspect = static_cast<float>(width_) / static_cast<float>(height_);
-  float sx = ((x + 0.5f) / width_ * 2.0f - 1.0f) * aspect * half_height_;
-  float sy = (1.0f - (y + 0.5f) / height_ * 2.0f) * half_height_;
+  float sx = ((x + offset_x) / width_ * 2.0f - 1.0f) * aspect * half_height_;
+  float sy = (1.0f - (y + offset_y) / height_ * 2.0f) * half_height_;
   Ray ray;
   if (type_ == Camera::Type::perspective) {
     ray.origin = origin_;
@@ -154,6 +154,34 @@ Ray CameraFrame::primary_ray(int x, int y) const {
 float CameraFrame::pixel_footprint(float distance) const {
   float per_pixel = 2.0f * half_height_ / static_cast<float>(height_);
   return type_ == Camera::Type::perspective ? per_pixel * distance : per_pixel;
+}
+
+std::optional<CameraFrame::ImagePoint> CameraFrame::project(const Vec3& point, const Vec3& normal) const {
+  const double per_pixel = 2.0 * static_cast<double>(half_height_) / static_cast<double>(height_);
+  const glm::dvec3 q = glm::dvec3(point) - glm::dvec3(origin_);
+  const double z = glm::dot(q, glm::dvec3(forward_));
+  if (!(z > 0.0)) return std::nullopt;
+  double sx = glm::dot(q, glm::dvec3(right_)), sy = glm::dot(q, glm::dvec3(up_));
+  ImagePoint image;
+  if (type_ == Camera::Type::perspective) {
+    sx /= z;
+    sy /= z;
+    image.pixels_per_area = std::abs(glm::dot(glm::dvec3(normal), q)) / (z * z * z) / (per_pixel * per_pixel);
+    image.distance = static_cast<float>(glm::length(q));
+    image.to_camera = Vec3(-q / glm::length(q));
+  } else {
+    image.pixels_per_area = std::abs(glm::dot(glm::dvec3(normal), glm::dvec3(forward_))) / (per_pixel * per_pixel);
+    image.distance = static_cast<float>(z);
+    image.to_camera = -forward_;
+  }
+  // The inverse of primary_ray's pixel centres: x + 0.5 = (sx / (aspect h) + 1) W / 2.
+  const double aspect = static_cast<double>(width_) / static_cast<double>(height_);
+  const double px = (sx / (aspect * half_height_) + 1.0) * 0.5 * width_;
+  const double py = (1.0 - sy / half_height_) * 0.5 * height_;
+  if (!(px >= 0.0 && px < width_ && py >= 0.0 && py < height_)) return std::nullopt;
+  image.x = std::min(width_ - 1, static_cast<int>(px));
+  image.y = std::min(height_ - 1, static_cast<int>(py));
+  return image;
 }
 
 Camera read_camera(const ConfigNode& node) {

@@ -43,9 +43,26 @@ void check_camera_at_every_frame(const Camera& camera, int frames, const ConfigN
 class CameraFrame {
  public:
   CameraFrame(const Camera& camera, double frame);
-  Ray primary_ray(int x, int y) const;
+  // The ray through point (x + offset_x, y + offset_y) of pixel (x, y); the pixel centre by default.
+  Ray primary_ray(int x, int y, float offset_x = 0.5f, float offset_y = 0.5f) const;
   // Side length in scene units of a pixel's footprint at the given distance along the view axis.
   float pixel_footprint(float distance) const;
+
+  // Where a surface point lands on the image, for estimators that credit light to the pixel whose
+  // footprint holds it (the reference's `estimator: footprint`).
+  struct ImagePoint {
+    int x = 0, y = 0;            // the pixel (x right, y down, as primary_ray)
+    double pixels_per_area = 0;  // image area in pixels per unit of surface area there (the Jacobian du/dA)
+    Vec3 to_camera{0.0f};        // unit direction from the point towards the camera (the eye, or back along
+                                 // the view axis for an orthographic camera)
+    float distance = 0.0f;       // to the eye (perspective) or to the image plane (orthographic)
+  };
+  // The pixel that sees `point` (ignoring occlusion) on a surface of unit normal `normal`, or nothing
+  // when the point lies behind the camera or outside the image. For a perspective camera, with q the
+  // point relative to the eye and z its depth along the view axis, du/dA = |n . q| / z^3 on the image
+  // plane at depth 1 (solid angle |n . q| / |q|^3 per area, image area 1 / cos^3 per solid angle);
+  // for an orthographic one |n . forward|. Divided by a pixel's area on that plane.
+  std::optional<ImagePoint> project(const Vec3& point, const Vec3& normal) const;
   int width() const { return width_; }
   int height() const { return height_; }
   Vec3 position() const { return origin_; }

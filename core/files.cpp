@@ -236,6 +236,18 @@ void write_file_atomically_with(const std::string& path, const std::function<voi
   guard.release();
 }
 
+void write_stream_atomically(const std::string& path, const std::function<void(std::ostream& stream)>& writer) {
+  write_file_atomically_with(path, [&](const std::string& temporary) {
+    std::ofstream stream(temporary, std::ios::binary | std::ios::trunc);
+    if (!stream) throw std::runtime_error(os_error_text(errno));
+    writer(stream);
+    stream.flush();
+    if (!stream) throw std::runtime_error(os_error_text(errno));
+    stream.close();
+    if (!stream) throw std::runtime_error(os_error_text(errno));
+  });
+}
+
 bool is_partial_file_name(const std::string& name) { return name.find(kPartialMarker) != std::string::npos; }
 
 size_t remove_stale_partial_files(const std::string& folder, bool folder_is_locked) {

@@ -42,6 +42,10 @@ void write_text_atomically(const std::string& path, const std::string& text);
 // path it is given, which keeps `path`'s extension; the file is then renamed into place. Whatever the
 // writer leaves under the temporary name (its own temporaries included) is removed if anything fails.
 void write_file_atomically_with(const std::string& path, const std::function<void(const std::string& temporary)>& writer);
+// For writers that stream (a method's build files): `writer` writes into a binary stream on the temporary
+// file; a stream that fails (a full disk) is a WriteError naming the file and the OS error, and nothing
+// is left behind.
+void write_stream_atomically(const std::string& path, const std::function<void(std::ostream& stream)>& writer);
 // Creates a folder of the store and its parents; WriteError naming the OS error when it cannot.
 void make_folders(const std::string& path);
 // Renames `from` over `to` as one write step (fault injection included); WriteError naming both.

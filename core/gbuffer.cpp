@@ -31,7 +31,7 @@ Image GBuffer::to_image() const {
   return image;
 }
 
-GBuffer render_gbuffer(const Tracer& tracer) {
+GBuffer render_gbuffer(const Tracer& tracer, float offset_x, float offset_y) {
   const SceneFrame& frame = tracer.frame();
   GBuffer gbuffer;
   gbuffer.width = frame.camera.width();
@@ -47,7 +47,7 @@ GBuffer render_gbuffer(const Tracer& tracer) {
   parallel_blocks(count, 1024, [&](size_t begin, size_t end, size_t) {
     for (size_t i = begin; i < end; ++i) {
       int x = static_cast<int>(i % gbuffer.width), y = static_cast<int>(i / gbuffer.width);
-      Ray ray = frame.camera.primary_ray(x, y);
+      Ray ray = frame.camera.primary_ray(x, y, offset_x, offset_y);
       SurfaceHit hit;
       if (!tracer.intersect(ray, hit)) continue;
       const Material& material = frame.scene->objects[hit.object].material;

@@ -29,6 +29,8 @@ struct GBuffer {
   static constexpr int kReceiverChannel = 10;  // the receiver mask's channel in to_image()
 };
 
-GBuffer render_gbuffer(const Tracer& tracer);
+// One primary ray per pixel through point (offset_x, offset_y) of the pixel (in [0, 1), from its top-left
+// corner); the pixel centre by default.
+GBuffer render_gbuffer(const Tracer& tracer, float offset_x = 0.5f, float offset_y = 0.5f);
 
 }  // namespace causticbench

@@ -1,4 +1,4 @@
-// Masked image statistics used inside the renderers (the reference's noise floor). The metrics module
+// Masked image statistics used inside the renderers (the reference's estimated error). The metrics module
 // builds the full, documented metric set on top of the same definitions.
 #pragma once
 

@@ -7,6 +7,10 @@
 
 namespace causticbench {
 
+// The brightest environment texel accepted (W/(m^2 sr), after `scale`): HDR suns reach about 1e9;
+// single-precision sums of many texels stay finite below this.
+constexpr double kMaximumEnvironmentRadiance = 1e20;
+
 EnvironmentMap::EnvironmentMap(const std::string& path, double scale, double rotation_degrees)
     : rotation_radians_(rotation_degrees * kPiDouble / 180.0) {
   auto input = OIIO::ImageInput::open(path);
@@ -35,10 +39,25 @@ EnvironmentMap::EnvironmentMap(const std::string& path, double scale, double rot
                                        value));
         }
         value = std::max(value, 0.0f);
-        pixels_[index * 3 + c] = value * static_cast<float>(scale);
+        // Radiance is summed and divided by sampling probabilities in single precision: a texel near
+        // float's limit (3e38) overflows those sums into infinities and NaN pixels.
+        const double scaled = static_cast<double>(value) * scale;
+        if (!(scaled <= kMaximumEnvironmentRadiance)) {
+          throw InputError(fmt::format("{}: texel ({}, {}) channel {} is {:g} (times scale {:g}): expected radiance of at "
+                                       "most {:g} W/(m^2 sr), beyond which single-precision sums overflow",
+                                       path, x, y, c, value, scale, kMaximumEnvironmentRadiance));
+        }
+        pixels_[index * 3 + c] = static_cast<float>(scaled);
       }
       weights[index] = luminance(texel(x, y)) * sin_theta;
     }
+  }
+  double total = 0.0;
+  for (double weight : weights) total += weight;
+  if (!(total > 0.0)) {
+    // Sampling it would divide 0 by 0: a map that sends no light cannot light anything.
+    throw InputError(fmt::format("{}: every texel is black ({} x {}): expected an environment map that sends some light",
+                                 path, width_, height_));
   }
   distribution_ = Distribution1D(weights);
 }

@@ -15,6 +15,9 @@ using Color = glm::vec3;  // linear RGB
 
 inline constexpr float kPi = 3.14159265358979323846f;
 inline constexpr double kPiDouble = 3.14159265358979323846;
+// The largest coordinate a point of a scene may have (a mesh vertex, a translation, a light or camera
+// position): geometry is traced in single precision, whose spacing at 1e6 is 0.06 scene units.
+inline constexpr double kMaximumCoordinate = 1e6;
 
 struct Ray {
   Vec3 origin{0.0f};

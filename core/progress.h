@@ -12,7 +12,7 @@ class Progress {
   // total: units of work (passes, photons, runs); 0 means unknown.
   Progress(std::string label, double total);
   ~Progress();
-  // Reports absolute progress `done` with an optional detail (e.g. "noise floor 3.2e-3").
+  // Reports absolute progress `done` with an optional detail (e.g. "reference error 3.2e-3").
   void update(double done, const std::string& detail = "");
   // Work whose end is judged by a measured quantity: fraction in [0, 1] estimates completion.
   void update_fraction(double fraction, const std::string& detail);

@@ -1,6 +1,10 @@
 #include "core/transform.h"
 
 #include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <fmt/format.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -58,9 +62,24 @@ glm::dvec3 read_scale(const ConfigNode& node) {
   return s;
 }
 
+// A point's coordinates must stay where single-precision geometry (Embree, the tracer's rays) still
+// resolves the scene: beyond kMaximumCoordinate a float's spacing reaches 0.06 and rays assert or miss.
+glm::dvec3 checked_point(const ConfigNode& node, const std::string& key, const glm::dvec3& value) {
+  static const std::vector<std::string> points = {"translate", "position", "look_at"};
+  if (std::find(points.begin(), points.end(), key) == points.end()) return value;
+  for (int i = 0; i < 3; ++i) {
+    if (!(std::abs(value[i]) <= kMaximumCoordinate)) {
+      node.fail(key, fmt::format("coordinates within +-{:g} (rays are traced in single precision, which stops "
+                                 "resolving the scene beyond that)", kMaximumCoordinate),
+                fmt::format("[{}, {}, {}]", value.x, value.y, value.z));
+    }
+  }
+  return value;
+}
+
 glm::dvec3 read_component(const ConfigNode& node, const std::string& key, const glm::dvec3& fallback) {
   if (!node.has(key)) return fallback;
-  return key == "scale" ? read_scale(node) : node.vec3(key);
+  return key == "scale" ? read_scale(node) : checked_point(node, key, node.vec3(key));
 }
 
 }  // namespace
@@ -98,7 +117,7 @@ Vec3Track read_track(const std::optional<ConfigNode>& static_owner, const Config
   // The still value is validated even when keyframes replace it, so that a typo there is reported.
   glm::dvec3 still = fallback ? *fallback : glm::dvec3(0.0);
   if (static_owner && (static_owner->has(key) || (fallback == nullptr && animated.empty()))) {
-    still = key == "scale" ? read_scale(*static_owner) : static_owner->vec3(key);
+    still = key == "scale" ? read_scale(*static_owner) : checked_point(*static_owner, key, static_owner->vec3(key));
   }
   return animated.empty() ? Vec3Track::constant(still) : Vec3Track{animated};
 }

@@ -30,14 +30,14 @@ namespace causticbench {
 //    emulating a method that keeps the rest pose (frame 0 rendered against the frame 1 reference), 0.38
 //    for moving_objects: all beyond 2 x 0.15.
 //  - relMSE: the declared capabilities measured <= 0.078 (photon_map, point light); the references'
-//    noise floors are <= 0.011. 0.25 leaves 3.2x. Wrong answers measured 62 (occlusion), 460 (a close
+//    reference errors are <= 0.011. 0.25 leaves 3.2x. Wrong answers measured 62 (occlusion), 460 (a close
 //    point light taken as distant), 32 (the rest pose's light). relMSE alone misses light that is
 //    missing from a small caustic (0.04 for pinhole's empty periscope floor): the energy ratio catches it.
 constexpr double kCapabilityEnergyTolerance = 0.15;
 constexpr double kCapabilityRelMseBound = 0.25;
 // Between the hold bounds and these margins a denied capability is neither held nor measurably wrong.
 constexpr double kCapabilityWrongMargin = 2.0;
-// The reference a verdict may rely on: its own noise floor (relMSE of its result, from its two halves)
+// The reference a verdict may rely on: its own reference error (relMSE of its result, from its two halves)
 // at most a tenth of the bound it judges by.
 constexpr double kCapabilityReferenceNoiseLimit = kCapabilityRelMseBound / 10.0;
 

@@ -13,6 +13,7 @@
 #include "core/scene_description.h"
 #include "experiments/capability_matrix_settings.h"
 #include "experiments/result_store.h"
+#include "methods/lifecycle.h"
 #include "metrics/metrics.h"
 
 namespace causticbench {
@@ -44,6 +45,12 @@ std::vector<KnobAssignment> expand_sweep(const KnobAssignment& fixed,
 }
 
 namespace {
+
+// Experiment and variant names become folder and file names (with prefixes and suffixes such as
+// "reference_<variant>_<n>.png" and "<name>.lock.partial"): checked against the file system's limit of 255
+// bytes a name before any work (issue 30, defect 10), with room for those.
+constexpr size_t kMaximumNameLength = 100;
+
 
 using SweepLists = std::vector<std::pair<std::string, std::vector<ParamDict::Entry>>>;
 
@@ -190,6 +197,11 @@ std::vector<SceneVariant> read_variants(const ConfigNode& root, const SceneVaria
     if (!variant.name.empty() && !std::regex_match(variant.name, std::regex("[A-Za-z0-9_.-]+"))) {
       item.fail("name", "a name of letters, digits, '_', '.' and '-'", "'" + variant.name + "'");
     }
+    if (variant.name.size() > kMaximumNameLength) {
+      item.fail("name", fmt::format("a name of at most {} characters (the report names files after it, and a file "
+                                    "name holds at most 255 bytes)", kMaximumNameLength),
+                fmt::format("{} characters", variant.name.size()));
+    }
     nlohmann::json own = read_overrides(item, variant.scene);
     variant.overrides.merge_patch(own);
     if (variant.name.empty()) {
@@ -264,6 +276,11 @@ void check_experiment_name(const ConfigNode& root, const std::string& name) {
   if (!std::regex_match(name, std::regex("[A-Za-z0-9_.-]+"))) {
     root.fail("name", "a name of letters, digits, '_', '.' and '-' (it names the results folder)", found);
   }
+  if (name.size() > kMaximumNameLength) {
+    root.fail("name", fmt::format("a name of at most {} characters (it names the results folder and the files in it, "
+                                  "and a file name holds at most 255 bytes)", kMaximumNameLength),
+              fmt::format("{} characters{}", name.size(), root.has("name") ? "" : " (from the file name; set `name:`)"));
+  }
   if (name.front() == '.') {
     root.fail("name", "a name that does not start with '.' (it names a folder inside --results; '.' and '..' would "
                       "write into the results folder itself or its parent)", found);
@@ -298,6 +315,7 @@ nlohmann::json Experiment::to_json() const {
           {"variants", variants_json},
           {"frames", frames},
           {"repetitions", repetitions},
+          {"pixel_samples", pixel_samples},
           {"metrics", metrics},
           {"primary_metric", primary_metric},
           {"reference", reference_params.to_json()},
@@ -345,6 +363,11 @@ Experiment load_experiment(const std::string& path) {
     }
   }
   experiment.repetitions = root.integer_or("repetitions", 3, 1, 1000);
+  experiment.pixel_samples = static_cast<int>(root.integer_or("pixel_samples", 1, 1, 256));
+  if (!valid_pixel_samples(experiment.pixel_samples)) {
+    root.fail("pixel_samples", "a square number of points per pixel (1, 4, 9, 16, ..., 256)",
+              std::to_string(experiment.pixel_samples));
+  }
   experiment.empty_reference_expected = root.boolean_or("empty_reference_expected", false);
 
   // Metrics: named ones, or every per-frame metric (plus flicker for animations).
@@ -483,6 +506,19 @@ Experiment load_experiment(const std::string& path) {
       // A swept knob that does not apply to this combination (sh_order under storage: grid) is
       // dropped, so the combinations it would multiply collapse into one run (same key, kept once).
       knobs.params = dict.resolve(info.params, info.name, varied);
+      if (std::optional<BrokenKnobRule> broken = broken_knob_rule(info, knobs.params)) {
+        // Blamed on the first of its knobs this entry sets (a default breaks no rule on its own).
+        SourceLocation where = entry.location();
+        std::string key = entry.path();
+        for (const std::string& knob : broken->rule->knobs) {
+          auto set = assignment.find(knob);
+          if (set == assignment.end()) continue;
+          where = set->second.where;
+          key = entry.path() + "." + knob;
+          break;
+        }
+        throw_input_error(where, key, "knobs that agree with each other", broken->describe(info.name));
+      }
       knobs.build = select_phase(knobs.params, info.params, ParamPhase::build);
       knobs.frame = select_phase(knobs.params, info.params, ParamPhase::frame);
       knobs.render = select_phase(knobs.params, info.params, ParamPhase::render);
@@ -516,6 +552,8 @@ Experiment load_experiment(const std::string& path) {
         run.spec = {{"scene_hash", variant.scene_hash}, {"overrides", variant.overrides},
                     {"frames", experiment.frames},         {"repetitions", experiment.repetitions},
                     {"method", info.name},                 {"params", run.params.key_json(info.params)}};
+        // Only when not 1, so that runs stored before the option keep their keys.
+        if (experiment.pixel_samples != 1) run.spec["pixel_samples"] = experiment.pixel_samples;
         run.key = hash_json(run.spec);
         if (!seen.insert(run.key).second) continue;  // the same run twice: keep one
         experiment.runs.push_back(std::move(run));

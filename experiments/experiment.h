@@ -61,6 +61,9 @@ struct Experiment {
   std::vector<SceneVariant> variants;  // at least one
   std::vector<int> frames;
   int repetitions = 3;
+  // Stratified points per pixel at which every method is rendered and averaged (docs/metrics.md,
+  // "pixel_samples"); 1: the pixel centre alone. In a run's key only when it is not 1.
+  int pixel_samples = 1;
   std::vector<std::string> metrics;
   std::string primary_metric = "relmse";
   ParamSet reference_params;

@@ -1,5 +1,6 @@
 #include "experiments/record_check.h"
 
+#include <cmath>
 #include <filesystem>
 #include <initializer_list>
 
@@ -69,6 +70,27 @@ std::string image_problem(const nlohmann::json& record, const std::string& run_f
   return problem.empty() ? "" : fmt::format("its image {}: {}", image, problem);
 }
 
+// A time or a size that is negative or not finite, or a metric that is infinite, cannot have been measured:
+// an ok record holding one was edited or damaged, and counting it would put it on a front (issue 30, 13).
+std::string measured_value_problem(const RunRecord& record) {
+  auto bad_time = [](double value) { return !std::isfinite(value) || value < 0.0; };
+  for (const FrameRecord& frame : record.frames) {
+    for (const auto* series : {&frame.update_ms, &frame.render_ms, &frame.gpu_render_ms})
+      for (double value : *series)
+        if (bad_time(value)) return fmt::format("frame {} holds a time of {} ms: expected a finite time >= 0", frame.frame, value);
+    for (const auto& [name, value] : frame.metrics)
+      if (std::isinf(value)) return fmt::format("frame {} holds metric '{}' = {}: expected a finite value", frame.frame, name, value);
+  }
+  for (const auto& [name, value] : record.metrics)
+    if (std::isinf(value)) return fmt::format("metric '{}' is {}: expected a finite value", name, value);
+  const PrepareRecord& prepare = record.prepare;
+  for (double value : {prepare.prepare_seconds, prepare.load_seconds, prepare.save_seconds})
+    if (bad_time(value)) return fmt::format("a prepare time of {} s: expected a finite time >= 0", value);
+  if (record.memory_bytes < 0 || record.peak_rss_bytes < 0)
+    return fmt::format("a memory size of {} bytes: expected a size >= 0", std::min(record.memory_bytes, record.peak_rss_bytes));
+  return "";
+}
+
 }  // namespace
 
 std::string run_record_problem(const nlohmann::json& record, const std::string& run_folder) {
@@ -81,6 +103,7 @@ std::string run_record_problem(const nlohmann::json& record, const std::string& 
   std::string folder_name = fs::path(run_folder).filename().string();
   if (parsed.key != folder_name) return fmt::format("its key is '{}', but its folder is {}", parsed.key, folder_name);
   if (!parsed.ok()) return "";
+  if (std::string problem = measured_value_problem(parsed); !problem.empty()) return problem;
   for (const FrameRecord& frame : parsed.frames) {
     std::string problem = image_problem(record, run_folder, frame.image);
     if (!problem.empty()) return problem;
@@ -93,7 +116,7 @@ std::string reference_frame_record_problem(const nlohmann::json& record, int fra
   std::string problem = schema_problem(record, {{"frame", Kind::integer},
                                                 {"passes", Kind::integer},
                                                 {"seconds", Kind::number},
-                                                {"noise_floor", Kind::number},
+                                                {"error_estimate", Kind::number},
                                                 {"stop_reason", Kind::string}});
   if (!problem.empty()) return problem;
   if (record["frame"].get<int64_t>() != frame) return fmt::format("it is the record of frame {}", record["frame"].get<int64_t>());

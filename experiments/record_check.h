@@ -18,12 +18,12 @@ namespace causticbench {
 std::string run_record_problem(const nlohmann::json& record, const std::string& run_folder);
 
 // Why a reference frame's record_NNNN.json, parsed, cannot be used ("" when it can): frame (== `frame`),
-// passes, seconds, noise_floor, stop_reason; image and gbuffer checksums are checked by the caller
+// passes, seconds, reference_error, stop_reason; image and gbuffer checksums are checked by the caller
 // against the files (experiments/reference_frames.h).
 std::string reference_frame_record_problem(const nlohmann::json& record, int frame);
 
 // std::nullopt when the reference frame's image is a function of its settings alone (it stopped on its
-// noise floor or its pass count), otherwise why not (it stopped on its time cap, max_seconds).
+// reference error or its pass count), otherwise why not (it stopped on its time cap, max_seconds).
 std::optional<std::string> reference_unconverged_reason(const nlohmann::json& frame_record);
 
 }  // namespace causticbench

@@ -11,6 +11,7 @@
 #include "experiments/reference_frames.h"
 #include "experiments/store_files.h"
 #include "experiments/store_lock.h"
+#include "methods/reference/reference.h"
 #include "methods/registry.h"
 
 namespace causticbench {
@@ -20,11 +21,12 @@ namespace fs = std::filesystem;
 namespace {
 
 struct FrameFiles {
-  fs::path image, gbuffer, record;
+  fs::path image, gbuffer, error, record;
 };
 
 FrameFiles frame_files(const fs::path& folder, int frame) {
   return {folder / (ResultPaths::frame_file(frame) + ".exr"), folder / (ResultPaths::frame_file(frame, "gbuffer") + ".exr"),
+          folder / (ResultPaths::frame_file(frame, "error") + ".exr"),
           folder / (ResultPaths::frame_file(frame, "record") + ".json")};
 }
 
@@ -122,10 +124,10 @@ void use_frame(VariantFrames& frames, int frame, Image image, const nlohmann::js
 // have run more passes.
 std::optional<std::string> time_cap_reason(const nlohmann::json& record, const ParamSet& params) {
   if (record.value("stop_reason", "") != "max_seconds") return std::nullopt;
-  return fmt::format("stopped by its time cap (max_seconds = {:g} s) after {} passes with noise floor {:.3g} "
-                     "(target_noise_floor {:g}): its pass count depends on the speed of the machine that computed it",
-                     params.real("max_seconds"), record.value("passes", 0), record.value("noise_floor", 0.0),
-                     params.real("target_noise_floor"));
+  return fmt::format("stopped by its time cap (max_seconds = {:g} s) after {} passes with reference error {:.3g} "
+                     "(target_error {:g}): its pass count depends on the speed of the machine that computed it",
+                     params.real("max_seconds"), record.value("passes", 0), record.value("error_estimate", 0.0),
+                     params.real("target_error"));
 }
 
 // Computes one frame's reference through the lifecycle driver and stores it: the EXRs first, the record,
@@ -144,8 +146,13 @@ void compute_frame(const Experiment& experiment, const SceneVariant& variant, co
       std::move(play_sequence(*method, {&posed}, knobs.frame, {knobs.render}, TimingProtocol{false, 1}).front().images.front());
   const FrameFiles files = frame_files(folder, frame);
   const std::string image_bytes = encode_exr(caustic), gbuffer_bytes = encode_exr(posed.gbuffer.to_image());
+  // The estimated RMS error of every pixel (W/m^2), beside the image it qualifies.
+  const auto* reference = dynamic_cast<const ReferenceMethod*>(method.get());
+  if (!reference) throw std::logic_error("the method named reference is not ReferenceMethod");
+  const std::string error_bytes = encode_exr(reference->error_map());
   write_file_atomically(files.image.string(), image_bytes);
   write_file_atomically(files.gbuffer.string(), gbuffer_bytes);
+  write_file_atomically(files.error.string(), error_bytes);
   nlohmann::json record = method->record();
   record["frame"] = frame;
   record["params"] = experiment.reference_params.to_json();
@@ -154,6 +161,8 @@ void compute_frame(const Experiment& experiment, const SceneVariant& variant, co
   record["image"]["file"] = files.image.filename().string();
   record["gbuffer"] = content_checksum(gbuffer_bytes);
   record["gbuffer"]["file"] = files.gbuffer.filename().string();
+  record["error_map"] = content_checksum(error_bytes);
+  record["error_map"]["file"] = files.error.filename().string();
   std::optional<std::string> reason = time_cap_reason(record, experiment.reference_params);
   record["converged"] = !reason;
   if (reason) {
@@ -182,7 +191,7 @@ void write_summary(const fs::path& folder, const std::string& key) {
     if (!stored) continue;  // damaged: recomputed by the next run that needs it
     std::optional<std::string> reason = reference_unconverged_reason(*stored);
     converged = converged && !reason;
-    stored_frames[std::to_string(index)] = {{"noise_floor", (*stored)["noise_floor"]}, {"passes", (*stored)["passes"]},
+    stored_frames[std::to_string(index)] = {{"error_estimate", (*stored)["error_estimate"]}, {"passes", (*stored)["passes"]},
                                             {"seconds", (*stored)["seconds"]}, {"stop_reason", (*stored)["stop_reason"]},
                                             {"converged", !reason}};
     if (first < 0 || index < first) {
@@ -196,7 +205,7 @@ void write_summary(const fs::path& folder, const std::string& key) {
   write_text_atomically((folder / "record.json").string(), summary.dump(2) + "\n");
 }
 
-// The summary is what the report reads (the noise floor, the convergence history): a damaged one is
+// The summary is what the report reads (the reference error, the convergence history): a damaged one is
 // written again from the frames' records.
 bool summary_is_readable(const fs::path& folder) {
   std::optional<std::string> text = read_file_bytes((folder / "record.json").string());

@@ -15,10 +15,12 @@
 
 namespace causticbench {
 
-void check_results_folder(const std::string& path) {
+void check_results_folder(const std::string& path) { check_writable_folder("--results", "results", path); }
+
+void check_writable_folder(const std::string& option, const std::string& what, const std::string& path) {
   namespace fs = std::filesystem;
   auto refuse = [&](const std::string& found) {
-    throw InputError(fmt::format("--results: expected a folder to write results into, found {}", found));
+    throw InputError(fmt::format("{}: expected a folder to write {} into, found {}", option, what, found));
   };
   // The folder itself, or else its nearest existing ancestor, which must then be a writable folder.
   fs::path existing = fs::absolute(fs::path(path));
@@ -57,6 +59,12 @@ std::string ResultPaths::run_lock(const std::string& experiment_name, const std:
 }
 std::string ResultPaths::frame_file(int frame, const std::string& prefix) {
   return fmt::format("{}_{:04d}", prefix, frame);
+}
+
+bool measured_against_other_reference(const nlohmann::json& record, const std::string& current_reference_key) {
+  const auto found = record.find("reference_key");
+  if (found == record.end() || !found->is_string() || found->get<std::string>().empty()) return false;
+  return !current_reference_key.empty() && found->get<std::string>() != current_reference_key;
 }
 
 StoredRun inspect_stored_run(const std::string& run_folder) {

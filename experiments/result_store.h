@@ -20,6 +20,9 @@ namespace causticbench {
 // that a file of that name, a symbolic-link loop or a read-only parent is an input error (exit code 2)
 // naming the path and the system's reason, not an internal error after the reference was computed.
 void check_results_folder(const std::string& path);
+// The same check for any folder an option names (`option` and `what` in the message): a writable folder, or
+// one that can be made below a writable one; InputError (exit 2) otherwise.
+void check_writable_folder(const std::string& option, const std::string& what, const std::string& path);
 
 struct ResultPaths {
   std::string results;  // the results root, e.g. "results"
@@ -45,6 +48,11 @@ struct StoredRun {
 };
 
 StoredRun inspect_stored_run(const std::string& run_folder);
+
+// Whether a stored run's record names another reference than its variant's current one (`reference_key`
+// of experiment.json's variant): such a run is stale (docs/reports.md, "Stale runs"), `run` measures it
+// again and `status` counts it pending. A record that names none (written before variants) is not.
+bool measured_against_other_reference(const nlohmann::json& record, const std::string& current_reference_key);
 bool run_is_stored(const std::string& run_folder);
 
 // Writes a run folder: its images (file name, EXR bytes) and then its record, which gets their checksums

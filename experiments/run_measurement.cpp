@@ -196,10 +196,11 @@ RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, const C
     record.timings.gpu_render_ms_min = minimum(all_gpu);
     record.timings.gpu_render_ms_median = median(all_gpu);
   }
-  record.memory_bytes = static_cast<int64_t>(method.memory_bytes());
+  // This run's own (SequenceOutput), not what the shared instance holds after the group's last run.
+  record.memory_bytes = static_cast<int64_t>(output.memory_bytes);
   record.peak_rss_bytes = static_cast<int64_t>(peak_rss_bytes());
-  for (const auto& [name, value] : method.counters()) record.counters[name] = value;
-  record.method_record = method.record();
+  for (const auto& [name, value] : output.counters) record.counters[name] = value;
+  record.method_record = output.method_record;
   if (!empty_reference.empty()) {
     std::vector<int> frames;
     for (const FramePresence& entry : empty_reference) frames.push_back(entry.frame);

@@ -75,7 +75,14 @@ RunSelection select_runs(const Experiment& experiment, const RunOptions& options
         fmt::print(stderr, "warning: run {} ({}) was measured against a reference computed for other scene content (a "
                    "mesh or environment map the scene names has changed since); measuring the run again\n",
                    run.label, run.key);
-      to_do = options.force || other_copy || content_changed;
+      // Its reference settings (or scene) changed since: the variant has another reference now.
+      const std::string& current = experiment.variants.at(run.variant).reference_key;
+      bool stale = !other_copy && !content_changed && measured_against_other_reference(stored.record, current);
+      if (stale)
+        fmt::print(stderr, "warning: run {} ({}) was measured against reference {}, but its variant's reference is now {} "
+                   "(the reference settings or the scene changed); measuring the run again\n",
+                   run.label, run.key, stored.record.value("reference_key", ""), current);
+      to_do = options.force || other_copy || content_changed || stale;
       pending = {&run, to_do, stored.record_hash};
       if (!checksums && !to_do) selection.unverified.push_back({&run, std::move(stored)});
     }

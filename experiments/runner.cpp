@@ -205,7 +205,7 @@ class RunExecutor {
     std::vector<SequenceOutput> outputs;
     try {
       outputs = play_sequence(method, frames_.sequence(experiment_.frames), first.frame, render_sets,
-                              TimingProtocol{true, experiment_.repetitions});
+                              TimingProtocol{true, experiment_.repetitions, experiment_.pixel_samples});
     } catch (const std::exception& error) {
       for (const ClaimedRun& run : claimed) fail(*run.run, error.what());
       return;

@@ -1,6 +1,7 @@
 #include "experiments/sweep_status.h"
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -23,6 +24,21 @@ struct ListedRun {
   std::string key, method;
   int shard = -1;
 };
+
+// Each variant's current reference key, from experiment.json (empty when it has none).
+std::map<std::string, std::string> current_reference_keys(const std::string& folder) {
+  std::map<std::string, std::string> keys;
+  std::optional<std::string> text = read_file_bytes((fs::path(folder) / "experiment.json").string());
+  if (!text) return keys;
+  nlohmann::json json = nlohmann::json::parse(*text, nullptr, false);
+  if (json.is_discarded() || !json.contains("variants") || !json["variants"].is_array()) return keys;
+  for (const nlohmann::json& variant : json["variants"]) {
+    if (variant.is_object() && variant.value("name", nlohmann::json()).is_string() &&
+        variant.value("reference_key", nlohmann::json()).is_string())
+      keys[variant["name"].get<std::string>()] = variant["reference_key"].get<std::string>();
+  }
+  return keys;
+}
 
 // From experiment.json: the run keys; their methods from the experiment file when it still expands to them.
 std::vector<ListedRun> runs_of_experiment_json(const std::string& folder, std::string& name) {
@@ -60,17 +76,38 @@ SweepStatus sweep_status(const std::string& folder) {
   status.folder = folder;
   std::vector<ListedRun> runs;
   const std::string plan_path = (fs::path(folder) / "slurm" / "shard-plan.json").string();
+  std::optional<ShardPlan> plan;
   if (fs::exists(plan_path)) {
-    ShardPlan plan = read_shard_plan(plan_path);
-    status.plan = plan_path;
-    status.shards = plan.shards;
-    status.experiment = plan.experiment;
-    for (const PlannedRun& run : plan.runs) runs.push_back({run.key, run.method, run.shard});
-  } else {
-    runs = runs_of_experiment_json(folder, status.experiment);
+    try {
+      plan = read_shard_plan(plan_path);
+    } catch (const InputError& error) {
+      // A garbled plan is something to report, not a reason to report nothing: experiment.json still
+      // names every run (issue 30, defect 13).
+      status.plan_problem = error.what();
+    }
   }
+  if (plan) {
+    status.plan = plan_path;
+    status.shards = plan->shards;
+    status.experiment = plan->experiment;
+    for (const PlannedRun& run : plan->runs) runs.push_back({run.key, run.method, run.shard});
+  } else {
+    try {
+      runs = runs_of_experiment_json(folder, status.experiment);
+    } catch (const InputError& error) {
+      if (status.plan_problem.empty()) throw;
+      throw InputError(status.plan_problem + "; and " + error.what());
+    }
+  }
+  const std::map<std::string, std::string> reference_keys = current_reference_keys(folder);
   for (const ListedRun& run : runs) {
     StoredRun stored = inspect_stored_run((fs::path(folder) / "runs" / run.key).string());
+    if (stored.state == StoredRun::State::stored) {
+      // A stale run (measured against another reference than its variant's now) is still to be run.
+      auto current = reference_keys.find(stored.record.value("variant", std::string("default")));
+      if (current != reference_keys.end() && measured_against_other_reference(stored.record, current->second))
+        stored.state = StoredRun::State::absent;
+    }
     std::string method = run.method;
     if (stored.state == StoredRun::State::stored) method = stored.record.value("method", method);
     if (method.empty()) method = "(unknown)";

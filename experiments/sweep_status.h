@@ -16,6 +16,7 @@ struct RunCounts {
 struct SweepStatus {
   std::string experiment, folder;
   std::string plan;  // the shard plan read, or empty
+  std::string plan_problem;  // why the shard plan there could not be read (the runs then come from experiment.json)
   int shards = 0;    // of the plan; 0 without one
   RunCounts all;
   std::map<std::string, RunCounts> methods;  // "(unknown)" for pending runs whose method is not known
@@ -26,7 +27,8 @@ struct SweepStatus {
 // The runs come from the shard plan (<folder>/slurm/shard-plan.json) when there is one, which names
 // every run from the moment the sweep was planned; otherwise from experiment.json, written by the first
 // `causticbench run` (a pending run's method then comes from the experiment file it names, while that
-// file still expands to the same runs). InputError when the folder has neither.
+// file still expands to the same runs). A damaged plan is reported in plan_problem and experiment.json
+// serves instead. InputError when the folder has neither.
 SweepStatus sweep_status(const std::string& folder);
 
 }  // namespace causticbench

@@ -1,6 +1,7 @@
 #include "methods/lifecycle.h"
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -18,10 +19,53 @@ namespace {
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
+// One render per sub-pixel G-buffer, each zero where its own point sees no receiver, averaged; the
+// times (and GPU times, where every sample has one) summed.
+Image render_subpixels(CausticMethod& method, const PosedFrame& posed, const ParamSet& render_knobs, int samples,
+                       double& render_ms, std::optional<double>& gpu_ms) {
+  const std::vector<GBuffer>& buffers = posed.subpixel_gbuffers(samples);
+  Image sum(posed.gbuffer.width, posed.gbuffer.height, 3);
+  double gpu_sum = 0.0;
+  bool every_gpu = true;
+  for (const GBuffer& buffer : buffers) {
+    auto start = Clock::now();
+    Image image = method.render(buffer, render_knobs);
+    render_ms += seconds_since(start) * 1e3;
+    std::optional<double> gpu = method.gpu_render_milliseconds();
+    every_gpu = every_gpu && gpu.has_value();
+    if (gpu) gpu_sum += *gpu;
+    buffer.clear_outside_receivers(image);
+    for (size_t pixel = 0; pixel < sum.pixel_count(); ++pixel)
+      for (int c = 0; c < 3; ++c) sum.at(pixel, c) += image.at(pixel, c);
+  }
+  for (float& value : sum.values()) value /= static_cast<float>(buffers.size());
+  if (every_gpu) gpu_ms = gpu_sum;
+  return sum;
+}
+
 }  // namespace
 
 PosedFrame::PosedFrame(const Scene& scene, int index_in)
     : index(index_in), frame(scene, index_in), tracer(frame), gbuffer(render_gbuffer(tracer)) {}
+
+bool valid_pixel_samples(int64_t samples) {
+  if (samples < 1 || samples > 256) return false;
+  int64_t side = static_cast<int64_t>(std::lround(std::sqrt(static_cast<double>(samples))));
+  return side * side == samples;
+}
+
+const std::vector<GBuffer>& PosedFrame::subpixel_gbuffers(int samples) const {
+  if (!valid_pixel_samples(samples)) throw std::logic_error(fmt::format("pixel_samples {} is not a square in [1, 256]", samples));
+  std::lock_guard<std::mutex> lock(subpixel_mutex_);
+  std::vector<GBuffer>& buffers = subpixel_[samples];
+  if (buffers.empty()) {
+    const int side = static_cast<int>(std::lround(std::sqrt(static_cast<double>(samples))));
+    for (int j = 0; j < side; ++j)
+      for (int i = 0; i < side; ++i)
+        buffers.push_back(render_gbuffer(tracer, (i + 0.5f) / static_cast<float>(side), (j + 0.5f) / static_cast<float>(side)));
+  }
+  return buffers;
+}
 
 RestPose::RestPose(const Scene& scene, std::vector<int> frames_in) : frame(scene, 0), tracer(frame), frames(std::move(frames_in)) {}
 
@@ -110,10 +154,17 @@ std::vector<SequenceOutput> play_sequence(CausticMethod& method, const std::vect
       method.update(posed.context(), frame_knobs);
       double update_ms = seconds_since(start) * 1e3;
       for (size_t r = 0; r < render_sets.size(); ++r) {
-        start = Clock::now();
-        Image image = method.render(posed.gbuffer, render_sets[r]);
-        double render_ms = seconds_since(start) * 1e3;
-        std::optional<double> gpu_ms = method.gpu_render_milliseconds();
+        std::optional<double> gpu_ms;
+        double render_ms = 0.0;
+        Image image;
+        if (protocol.pixel_samples <= 1) {
+          start = Clock::now();
+          image = method.render(posed.gbuffer, render_sets[r]);
+          render_ms = seconds_since(start) * 1e3;
+          gpu_ms = method.gpu_render_milliseconds();
+        } else {
+          image = render_subpixels(method, posed, render_sets[r], protocol.pixel_samples, render_ms, gpu_ms);
+        }
         if (timed) {
           FrameTimings& timings = outputs[r].timings[f];
           timings.update_ms.push_back(update_ms);
@@ -123,6 +174,9 @@ std::vector<SequenceOutput> play_sequence(CausticMethod& method, const std::vect
         if (pass == passes - 1) {
           posed.gbuffer.clear_outside_receivers(image);
           outputs[r].images[f] = std::move(image);
+          outputs[r].memory_bytes = method.memory_bytes();
+          outputs[r].counters = method.counters();
+          outputs[r].method_record = method.record();
         }
       }
     }

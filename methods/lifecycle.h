@@ -4,7 +4,9 @@
 // the same way everywhere.
 #pragma once
 
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,10 +23,20 @@ struct PosedFrame {
   int index = 0;
   SceneFrame frame;
   Tracer tracer;
-  GBuffer gbuffer;
+  GBuffer gbuffer;  // through the pixel centres: its receiver mask is every metric's
   PosedFrame(const Scene& scene, int index);
   FrameContext context() const { return FrameContext{frame, tracer}; }
+  // `samples` G-buffers through the centres of an s x s grid of sub-pixels (s^2 = samples), made on
+  // first use and kept (thread-safe): what a method renders under the harness's pixel_samples.
+  const std::vector<GBuffer>& subpixel_gbuffers(int samples) const;
+
+ private:
+  mutable std::mutex subpixel_mutex_;
+  mutable std::map<int, std::vector<GBuffer>> subpixel_;
 };
+
+// Whether `samples` is a valid pixel_samples value: a square from 1 to 256.
+bool valid_pixel_samples(int64_t samples);
 
 // The scene's rest pose (frame 0) with a tracer over it, and the frames to be rendered: what
 // prepare() gets.
@@ -64,6 +76,10 @@ PrepareOutcome prepare_method(CausticMethod& method, const PrepareContext& conte
 struct TimingProtocol {
   bool warm_up = true;
   int repetitions = 1;
+  // The harness's anti-aliasing (docs/metrics.md, "pixel_samples"): with N > 1, render() runs once per
+  // stratified sub-pixel G-buffer (PosedFrame::subpixel_gbuffers), each image is cleared outside its own
+  // receivers and the N are averaged per pixel; the render time is the sum of the N.
+  int pixel_samples = 1;
 };
 
 // Per frame of the sequence, the timings of every timed pass.
@@ -78,6 +94,11 @@ struct FrameTimings {
 struct SequenceOutput {
   std::vector<Image> images;          // per frame, from the last pass, zero outside the receivers
   std::vector<FrameTimings> timings;  // per frame
+  // The method's memory, counters and record right after this knob set's last render: runs that share
+  // an instance (differing only in render knobs) each get their own, not the last set's.
+  size_t memory_bytes = 0;
+  Counters counters;
+  nlohmann::json method_record = nlohmann::json::object();
 };
 
 // Plays `frames` on a prepared method with one set of frame knobs. For each frame, update() runs

@@ -1,5 +1,7 @@
 #include "methods/method.h"
 
+#include <fmt/format.h>
+
 namespace causticbench {
 
 std::vector<std::pair<std::string, bool>> Capabilities::entries() const {
@@ -13,6 +15,26 @@ std::vector<std::pair<std::string, bool>> Capabilities::entries() const {
           {"moving_objects", moving_objects},
           {"occlusion", occlusion},
           {"non_lambertian_receivers", non_lambertian_receivers}};
+}
+
+std::string BrokenKnobRule::describe(const std::string& method) const {
+  std::string names;
+  for (size_t i = 0; i < rule->knobs.size(); ++i) {
+    if (i > 0) names += i + 1 == rule->knobs.size() ? " and " : ", ";
+    names += "'" + rule->knobs[i] + "'";
+  }
+  return fmt::format("knobs {} of {}: {}", names, method, problem);
+}
+
+std::optional<BrokenKnobRule> broken_knob_rule(const MethodInfo& info, const ParamSet& params) {
+  for (const KnobRule& rule : info.knob_rules) {
+    bool applies = true;
+    for (const std::string& knob : rule.knobs) applies = applies && params.has(knob);
+    if (!applies) continue;
+    std::string problem = rule.problem(params);
+    if (!problem.empty()) return BrokenKnobRule{&rule, problem};
+  }
+  return std::nullopt;
 }
 
 }  // namespace causticbench

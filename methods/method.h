@@ -8,6 +8,7 @@
 // See docs/adding-a-method.md and docs/design.md.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -46,6 +47,15 @@ struct Capabilities {
   std::vector<std::pair<std::string, bool>> entries() const;
 };
 
+// A rule between knobs that no single knob's range can state (lpi's sh_order against light_subdivision),
+// declared with the knobs and checked before any work starts (broken_knob_rule), both knobs named.
+struct KnobRule {
+  std::vector<std::string> knobs;
+  // "" when the knobs agree, otherwise what is wrong and how to fix it; called only when every knob of
+  // `knobs` applies (is in the resolved set).
+  std::function<std::string(const ParamSet&)> problem;
+};
+
 struct MethodInfo {
   std::string name;
   std::string paper;
@@ -65,7 +75,17 @@ struct MethodInfo {
   // counter_quantity): they join the quantity registry, so that claims, tables and plots can use them.
   // The conformance tests check that a method reports exactly what it declares.
   std::vector<QuantityInfo> counters;
+  std::vector<KnobRule> knob_rules;
 };
+
+// The first of `info`'s knob rules that `params` (resolved) break, with its problem; nothing when none.
+struct BrokenKnobRule {
+  const KnobRule* rule = nullptr;
+  std::string problem;
+  // "knobs 'a' and 'b' of lpi: <problem>"
+  std::string describe(const std::string& method) const;
+};
+std::optional<BrokenKnobRule> broken_knob_rule(const MethodInfo& info, const ParamSet& params);
 
 using Counters = std::vector<std::pair<std::string, double>>;
 
@@ -101,7 +121,7 @@ class CausticMethod {
   // Bytes of the data the method keeps between frames.
   virtual size_t memory_bytes() const = 0;
   virtual Counters counters() const = 0;
-  // Method-specific facts for the run record (e.g. the reference's noise floor).
+  // Method-specific facts for the run record (e.g. the reference's estimated error).
   virtual nlohmann::json record() const { return nlohmann::json::object(); }
   // GPU backends: the kernel time of the last render() from timestamp queries, in milliseconds.
   virtual std::optional<double> gpu_render_milliseconds() const { return std::nullopt; }

@@ -19,6 +19,9 @@ CheckedRequest check_request(const RenderRequest& request) {
   checked.method = &find_method(request.method);
   const MethodInfo& info = checked.method->info();
   checked.params = request.params.resolve(info.params, info.name);
+  if (std::optional<BrokenKnobRule> broken = broken_knob_rule(info, checked.params)) {
+    throw InputError(fmt::format("--set: expected knobs that agree with each other, found {}", broken->describe(info.name)));
+  }
   if (request.frame < 0 || request.frame >= request.scene->frames) {
     throw InputError(fmt::format("frame {} is outside the scene's animation: expected 0 to {} ({} frames in {})",
                                  request.frame, request.scene->frames - 1, request.scene->frames,
@@ -52,7 +55,7 @@ FrameResult run_frame(const RenderRequest& request, const CheckedRequest& checke
       prepare_method(*method, prepare_context(*request.scene, frames, &posed, rest), knobs.build, request.build_cache);
   result.timings.prepare_seconds = result.prepare.prepare_seconds;
   std::vector<SequenceOutput> outputs =
-      play_sequence(*method, {&posed}, knobs.frame, {knobs.render}, TimingProtocol{false, 1});
+      play_sequence(*method, {&posed}, knobs.frame, {knobs.render}, TimingProtocol{false, 1, request.pixel_samples});
   const FrameTimings& timings = outputs.front().timings.front();
   result.timings.update_milliseconds = timings.update_ms.front();
   result.timings.render_milliseconds = timings.render_ms.front();

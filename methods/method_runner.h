@@ -28,6 +28,7 @@ struct RenderRequest {
   int frame = 0;
   std::string dump_folder;  // --dump-frame: the method writes its GPU inputs and output here
   std::string build_cache;  // a build cache folder (results/builds), or "" for none
+  int pixel_samples = 1;    // TimingProtocol::pixel_samples
 };
 
 struct CheckedRequest {

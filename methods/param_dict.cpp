@@ -42,6 +42,11 @@ ParamSpec& ParamSpec::only_when(std::string knob, std::vector<std::string> value
   return *this;
 }
 
+ParamSpec& ParamSpec::or_special(double value) {
+  special_value = value;
+  return *this;
+}
+
 ParamSpec& ParamSpec::unkeyed_at_default() {
   keyed_at_default = false;
   return *this;
@@ -65,7 +70,9 @@ std::string ParamSpec::type_name() const {
 std::string ParamSpec::range_text() const {
   switch (type) {
     case ParamType::integer:
-    case ParamType::real: return fmt::format("[{}, {}]", min_value, max_value);
+    case ParamType::real:
+      return special_value ? fmt::format("{} or [{}, {}]", *special_value, min_value, max_value)
+                           : fmt::format("[{}, {}]", min_value, max_value);
     case ParamType::boolean: return "true, false";
     case ParamType::choice: return join(choices, ", ");
   }
@@ -192,7 +199,9 @@ ParamSet ParamDict::resolve(const std::vector<ParamSpec>& specs, const std::stri
         if (!std::regex_match(text, decimal)) fail(spec.type == ParamType::integer ? "an integer" : "a decimal number");
         double number = std::strtod(text.c_str(), nullptr);
         if (!std::isfinite(number)) fail("a finite number");
-        if (number < spec.min_value || number > spec.max_value) fail(fmt::format("a value in {}", spec.range_text()));
+        bool special = spec.special_value && number == *spec.special_value;
+        if (!special && (number < spec.min_value || number > spec.max_value))
+          fail(spec.special_value ? spec.range_text() : "a value in " + spec.range_text());
         if (spec.type == ParamType::integer) {
           if (std::floor(number) != number) fail("an integer");
           result.set(spec.name, static_cast<int64_t>(number));

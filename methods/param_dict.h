@@ -50,6 +50,9 @@ struct ParamSpec {
   // False for a knob added after experiments shipped whose default changes nothing they measured: at its
   // default it is left out of the run key (ParamSet::key_json), so those runs keep their keys and results.
   bool keyed_at_default = true;
+  // A numeric knob's one value outside [min_value, max_value] that means something of its own (pinhole's
+  // `epsilon: -1`, "automatic"); values between it and the range are refused, not read as it.
+  std::optional<double> special_value;
 
   static ParamSpec integer(std::string name, int64_t fallback, double min_value, double max_value, std::string meaning,
                            ParamPhase phase);
@@ -63,6 +66,8 @@ struct ParamSpec {
   ParamSpec& only_when(std::string knob, std::vector<std::string> values);
   // Sets keyed_at_default to false; returns *this.
   ParamSpec& unkeyed_at_default();
+  // Sets special_value; returns *this.
+  ParamSpec& or_special(double value);
 
   std::string type_name() const;
   std::string range_text() const;

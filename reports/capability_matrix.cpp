@@ -98,7 +98,7 @@ std::string caption(const CapabilityMatrix& matrix) {
 }  // namespace
 
 CapabilityMatrix build_capability_matrix(const json& settings, const std::vector<CapabilityRun>& runs,
-                                         const std::map<std::string, double>& noise_floors) {
+                                         const std::map<std::string, double>& reference_errors) {
   CapabilityMatrix matrix;
   const json& published = report_detail::member(settings, "published");
   matrix.title = report_detail::string_member(published, "title");
@@ -136,9 +136,9 @@ CapabilityMatrix build_capability_matrix(const json& settings, const std::vector
       row.cells.push_back(std::move(cell));
     }
     for (const std::string& variant : {row.with, row.without}) {
-      auto floor = noise_floors.find(variant);
-      if (floor != noise_floors.end() && floor->second > kCapabilityReferenceNoiseLimit)
-        matrix.notes.push_back(fmt::format("the reference of {} has a noise floor of {}, above {} (a tenth of the relMSE "
+      auto floor = reference_errors.find(variant);
+      if (floor != reference_errors.end() && floor->second > kCapabilityReferenceNoiseLimit)
+        matrix.notes.push_back(fmt::format("the reference of {} has a reference error of {}, above {} (a tenth of the relMSE "
                                            "bound): its verdicts are uncertain",
                                            variant, num(floor->second), num(kCapabilityReferenceNoiseLimit)));
     }
@@ -262,10 +262,10 @@ std::optional<CapabilityMatrix> report_capability_matrix(const Report& report) {
     }
     runs.push_back(std::move(out));
   }
-  std::map<std::string, double> noise_floors;
+  std::map<std::string, double> reference_errors;
   for (const Variant& variant : report.variants)
-    if (variant.noise_floor) noise_floors[variant.name] = *variant.noise_floor;
-  return build_capability_matrix(settings, runs, noise_floors);
+    if (variant.reference_error) reference_errors[variant.name] = *variant.reference_error;
+  return build_capability_matrix(settings, runs, reference_errors);
 }
 
 }  // namespace report_detail

@@ -58,9 +58,9 @@ struct CapabilityMatrix {
   std::vector<std::string> notes;    // references too noisy to judge by
 };
 
-// `settings`: experiment.json "capability_matrix"; `noise_floors`: each variant's reference noise floor.
+// `settings`: experiment.json "capability_matrix"; `reference_errors`: each variant's reference error.
 CapabilityMatrix build_capability_matrix(const nlohmann::json& settings, const std::vector<CapabilityRun>& runs,
-                                         const std::map<std::string, double>& noise_floors);
+                                         const std::map<std::string, double>& reference_errors);
 
 // The section with its heading (the study's summary names the experiment in it).
 std::string capability_matrix_markdown(const CapabilityMatrix& matrix, const std::string& heading = "Capability matrix");

@@ -1,6 +1,6 @@
 // The summary at the top of report.html and report.md: the experiment's facts beside the environment,
 // and the one-line findings (run counts, claims, and per variant the best and fastest run, the front
-// over all methods and whether the reference's noise floor sits well below the best relMSE).
+// over all methods and whether the reference's estimated error sits well below the best relMSE).
 #include <fmt/format.h>
 
 #include "core/errors.h"
@@ -33,7 +33,7 @@ std::vector<std::pair<std::string, std::string>> experiment_facts(const Report& 
   };
   auto reference_text = [](const Variant& variant) {
     std::string text = variant.reference_key;
-    if (variant.noise_floor) text += ", noise floor " + num(*variant.noise_floor);
+    if (variant.reference_error) text += ", reference error " + num(*variant.reference_error);
     const json& passes = member(variant.reference, "passes");
     if (passes.is_number()) text += ", " + value_text(passes) + " passes";
     const json& seconds = member(variant.reference, "seconds");
@@ -45,6 +45,16 @@ std::vector<std::pair<std::string, std::string>> experiment_facts(const Report& 
   if (!report.multi() && !resolution.empty()) facts.push_back({"resolution", resolution});
   add("frames", member(report.experiment, "frames"));
   add("repetitions", member(report.experiment, "repetitions"));
+  {
+    // Which quantity the methods were measured at (docs/metrics.md, "pixel_samples").
+    const nlohmann::json& samples = member(report.experiment, "pixel_samples");
+    int count = samples.is_number_integer() ? samples.get<int>() : 1;
+    facts.push_back({"pixel samples", count == 1 ? std::string("1 (each method at the pixel centre, against the reference's "
+                                                                "footprint average)")
+                                                 : fmt::format("{} (each method averaged over a stratified {}-point grid "
+                                                               "per pixel; render times include every point)",
+                                                               count, count)});
+  }
   facts.push_back({"primary metric", report.primary + " (" + direction_text(report.primary) + ")"});
   if (!report.multi()) {
     if (!report.variants.front().reference_key.empty())
@@ -89,7 +99,7 @@ std::vector<std::string> findings(const Report& report, bool html) {
     return fmt::format("{} ({}, {} ms)", name(i), primary_caption(report, report.runs[i]),
                        time ? num(*time) : "\u2014");
   };
-  // One set of lines per variant (best, fastest, front and noise floor compare runs of one variant only).
+  // One set of lines per variant (best, fastest, front and reference error compare runs of one variant only).
   for (size_t v = 0; v < report.variants.size(); ++v) {
     const Variant& variant = report.variants[v];
     std::string in = report.multi() ? " (variant " + variant.name + ")" : "";
@@ -111,11 +121,11 @@ std::vector<std::string> findings(const Report& report, bool html) {
       lines.push_back("Pareto front over all methods" + in +
                       " (fastest first, \u25c6 in the table): " + join(steps, " \u2192 ") + ".");
     }
-    if (best && report.primary == "relmse" && variant.noise_floor && *variant.noise_floor > 0.0) {
+    if (best && report.primary == "relmse" && variant.reference_error && *variant.reference_error > 0.0) {
       double value = *report.runs[*best].metric(report.primary);
-      double ratio = value / *variant.noise_floor;
-      lines.push_back(fmt::format("The reference's noise floor{} {} is {} the best relMSE ({}\u00d7 below it).", in,
-                                  num(*variant.noise_floor), ratio >= 10.0 ? "well below" : "NOT well below",
+      double ratio = value / *variant.reference_error;
+      lines.push_back(fmt::format("The reference's estimated error{} {} is {} the best relMSE ({}\u00d7 below it).", in,
+                                  num(*variant.reference_error), ratio >= 10.0 ? "well below" : "NOT well below",
                                   fmt::format("{:.3g}", ratio)));
     }
   }

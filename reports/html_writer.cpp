@@ -223,7 +223,8 @@ std::string html_document(const Report& report) {
                "\"><div class=\"label\">E<sub>c</sub></div></div>";
       if (!thumb.error_png.empty())
         out += "<div><img src=\"report/" + thumb.error_png + "\" alt=\"error " + html_escape(thumb.title) +
-               "\"><div class=\"label\">|test \u2212 reference|</div></div>";
+               "\"><div class=\"label\">" +
+               (thumb.reference ? std::string("estimated error") : std::string("|test \u2212 reference|")) + "</div></div>";
       if (!thumb.flip_png.empty())
         out += "<div><img src=\"report/" + thumb.flip_png + "\" alt=\"FLIP " + html_escape(thumb.title) +
                "\"><div class=\"label\">FLIP</div></div>";

@@ -39,7 +39,7 @@ std::string results_json(const Report& report) {
                         {"resolution", variant.resolution},
                         {"overrides", variant.overrides},
                         {"listed", variant.listed},
-                        {"noise_floor", variant.noise_floor ? json(*variant.noise_floor) : json(nullptr)},
+                        {"error_estimate", variant.reference_error ? json(*variant.reference_error) : json(nullptr)},
                         {"reference", variant.reference}});
   }
   const Variant& first = report.variants.front();

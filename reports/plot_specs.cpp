@@ -99,18 +99,18 @@ json tooltip(const Report& report) {
   return fields;
 }
 
-// The reference noise floor rules of the error plots (primary metric relMSE only): one per variant whose
+// The reference error rules of the error plots (primary metric relMSE only): one per variant whose
 // reference has a positive floor, labelled with the variant's name when there are several. The floors
 // are appended to `values` (for the choice of a log axis).
 std::vector<json> floor_layers(const Report& report, const std::string& field, std::vector<double>& values) {
   std::vector<json> layers;
   if (report.primary != "relmse") return layers;
   for (const Variant& variant : report.variants) {
-    if (!finite(variant.noise_floor) || !(*variant.noise_floor > 0.0)) continue;
-    double floor = *variant.noise_floor;
+    if (!finite(variant.reference_error) || !(*variant.reference_error > 0.0)) continue;
+    double floor = *variant.reference_error;
     values.push_back(floor);
-    std::string text = report.multi() ? fmt::format("reference noise floor {} {}", variant.name, num(floor))
-                                      : "reference noise floor " + num(floor);
+    std::string text = report.multi() ? fmt::format("reference error {} {}", variant.name, num(floor))
+                                      : "reference error " + num(floor);
     for (json& layer : rule_layers(field, floor, text, "#666")) layers.push_back(layer);
   }
   return layers;

@@ -1,6 +1,6 @@
 // The pieces of the report's Vega-Lite plots (plots.cpp, tradeoff_plots.cpp): the base specification,
 // axes, the methods' fixed colours, dashed rules, one run as a data row with its tooltip, the
-// reference noise floors and the variant's point shape. Internal to reports/.
+// reference errors and the variant's point shape. Internal to reports/.
 #pragma once
 
 #include <set>
@@ -22,7 +22,7 @@ std::vector<json> rule_layers(const std::string& field, double value, const std:
 // One run: key, method, label, knobs, frame_ms, value (the primary metric), front (its method's).
 json run_row(const Report& report, size_t run);
 json tooltip(const Report& report);
-// The reference noise floor rules of the error plots (primary metric relMSE only), one per variant with
+// The reference error rules of the error plots (primary metric relMSE only), one per variant with
 // a positive floor; the floors are appended to `values` (for the choice of a log axis).
 std::vector<json> floor_layers(const Report& report, const std::string& field, std::vector<double>& values);
 // Points of several variants are told apart by their shape.

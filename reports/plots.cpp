@@ -21,9 +21,9 @@ void make_convergence_plot(Report& report) {
   std::vector<double> seconds, floors;
   for (const Variant& variant : report.variants) {
     for (const json& entry : variant.history) {
-      auto s = number(entry, "seconds"), f = number(entry, "noise_floor");
+      auto s = number(entry, "seconds"), f = number(entry, "error_estimate");
       if (!finite(s) || !finite(f)) continue;
-      json row = {{"seconds", *s}, {"noise_floor", *f}};
+      json row = {{"seconds", *s}, {"error_estimate", *f}};
       if (entry.contains("pass")) row["pass"] = entry["pass"];
       if (entry.contains("photons")) row["photons"] = entry["photons"];
       if (report.multi()) row["variant"] = variant.name;
@@ -48,11 +48,11 @@ void make_convergence_plot(Report& report) {
   if (best) all.push_back(*best);
   bool log_x = all_positive(seconds), log_y = all_positive(all);
   json x = axis("seconds", std::string("reference time, s") + (log_x ? " (log)" : ""), log_x);
-  json y = axis("noise_floor", std::string("noise floor, estimated relMSE") + (log_y ? " (log)" : ""), log_y);
+  json y = axis("error_estimate", std::string("reference error, estimated relMSE") + (log_y ? " (log)" : ""), log_y);
   json tip = json::array({{{"field", "pass"}},
                           {{"field", "photons"}, {"format", ",d"}},
                           {{"field", "seconds"}, {"format", ".4g"}},
-                          {{"field", "noise_floor"}, {"title", "noise floor"}, {"format", ".4g"}}});
+                          {{"field", "error_estimate"}, {"title", "reference error"}, {"format", ".4g"}}});
   json layers = json::array();
   if (report.multi()) {
     tip.insert(tip.begin(), json{{"field", "variant"}});
@@ -72,16 +72,17 @@ void make_convergence_plot(Report& report) {
   }
   if (best) {
     for (json& layer :
-         rule_layers("noise_floor", *best, "best method relMSE " + num(*best) + " (" + best_label + ")", "#e45756"))
+         rule_layers("error_estimate", *best, "best method relMSE " + num(*best) + " (" + best_label + ")", "#e45756"))
       layers.push_back(layer);
   }
-  json spec = base_spec("Reference convergence: noise floor versus time",
-                        "relMSE of the reference estimated from two independent halves, after each pass");
+  json spec = base_spec("Reference convergence: reference error versus time",
+                        "the reference's estimate of its own total error (variance plus bias), after each pass");
   spec["layer"] = layers;
   std::string caption =
-      "The reference's estimated relMSE (its noise floor) after each progressive pass, against the seconds it "
-      "had run. Metrics below the floor are not resolved; the red rule is the best relMSE any method reached "
-      "in this experiment.";
+      "The reference's estimate of its own total error (relMSE against the pixels' true E_c: variance, plus "
+      "the estimated squared bias where its estimator has one) after each pass, against the seconds it had run. "
+      "A method's error below it is not resolved; the red rule is the best relMSE any method reached in this "
+      "experiment.";
   if (report.multi()) caption += " One line per scene variant's reference; the rule is the best over all variants.";
   report.plots.push_back({"plot-convergence", caption, spec});
 }

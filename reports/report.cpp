@@ -32,9 +32,11 @@ void copy_vendor(const fs::path& target) {
   }
   ensure_folder(target.string());
   for (const char* file : kVendorFiles) {
-    fs::path temporary = target / (std::string(file) + ".partial");
-    fs::copy_file(source / file, temporary, fs::copy_options::overwrite_existing);
-    fs::rename(temporary, target / file);
+    // Through the store's atomic write: a temporary name of this process's own (two reports of one
+    // experiment at once used to share one and fail), a full disk named as ENOSPC and nothing left behind.
+    write_file_atomically_with((target / file).string(), [&](const std::string& temporary) {
+      fs::copy_file(source / file, temporary, fs::copy_options::overwrite_existing);
+    });
   }
 }
 
@@ -52,10 +54,11 @@ ReportSummary write_report(const std::string& experiment_folder) {
   copy_vendor(images / "vendor");
   std::set<std::string> written;
   make_images(report, written);
-  // Images of runs that are no longer part of the experiment would mislead: remove them.
+  // Images of runs that are no longer part of the experiment would mislead: remove them. Not the
+  // temporary files of a write in progress, which may be another process's (a run or report at work).
   for (const auto& entry : fs::directory_iterator(images)) {
-    if (entry.is_regular_file() && entry.path().extension() == ".png" &&
-        !written.count(entry.path().filename().string()))
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && entry.path().extension() == ".png" && !written.count(name) && !is_partial_file_name(name))
       fs::remove(entry.path());
   }
   make_plots(report);

@@ -214,7 +214,7 @@ void make_images(Report& report, std::set<std::string>& written) {
                              ? value_text(member(variant.reference, "passes")) + " passes"
                              : "";
     thumb.caption = fmt::format("frame {}{}{}", first_frame, passes.empty() ? "" : " \u00b7 " + passes,
-                                variant.noise_floor ? " \u00b7 noise floor " + num(*variant.noise_floor) : "");
+                                variant.reference_error ? " \u00b7 reference error " + num(*variant.reference_error) : "");
     thumb.ec_png = report.multi() ? "reference_" + file_safe(variant.name) + ".png" : "reference.png";
     for (size_t n = 2; written.count(thumb.ec_png); ++n)
       thumb.ec_png = fmt::format("reference_{}_{}.png", file_safe(variant.name), n);
@@ -224,6 +224,21 @@ void make_images(Report& report, std::set<std::string>& written) {
     if (!(reference.mean > 0.0)) thumb.note = "black over the receivers: no error maps against it";
     report.thumbnails.push_back(thumb);
     if (!(reference.mean > 0.0)) continue;  // error maps need the reference's mean as their scale
+    // The reference's own estimated error per pixel (error_<frame>.exr, docs/metrics.md), on the scale of
+    // the runs' |test - reference| maps: where it is not dark, no run's error there can be resolved.
+    const fs::path error_file = report.reference_folder(variant.reference_key) / frame_file(first_frame, "error");
+    if (fs::is_regular_file(error_file)) {
+      try {
+        const Image error = read_exr(error_file.string());
+        Thumbnail& shown = report.thumbnails.back();
+        shown.error_png = shown.ec_png.substr(0, shown.ec_png.size() - 4) + "_error.png";
+        write_error_map(error, Image(error.width(), error.height(), 3), kErrorScale * reference.mean, images / shown.error_png);
+        written.insert(shown.error_png);
+        shown.caption += " \u00b7 error map: its own estimated error";
+      } catch (const std::exception& failure) {
+        report.notes.push_back(fmt::format("The reference's error map {} is unreadable: {}", error_file.string(), failure.what()));
+      }
+    }
     scales.push_back((report.multi() ? variant.name + " " : std::string()) + num(kErrorScale * reference.mean) +
                      " W/m\u00b2");
   }

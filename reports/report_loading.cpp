@@ -287,13 +287,13 @@ void load_report(Report& report, const std::string& folder_text) {
     report.notes.push_back(
         fmt::format("Run records name variant(s) that experiment.json does not list: {}.", join(unlisted, ", ")));
 
-  // Each variant's reference record: noise floor, history, passes, seconds.
+  // Each variant's reference record: reference error, history, passes, seconds.
   std::map<std::string, json> records;
   std::set<std::string> missing_records;
   for (Variant& variant : report.variants) {
     if (variant.reference_key.empty()) {
       report.notes.push_back(report.multi() ? fmt::format("Variant {} names no reference_key: no reference image, "
-                                                          "noise floor or error maps for it.",
+                                                          "reference error or error maps for it.",
                                                           variant.name)
                                             : "experiment.json names no reference_key: no reference images, noise "
                                               "floor or error maps.");
@@ -306,13 +306,13 @@ void load_report(Report& report, const std::string& folder_text) {
       } else {
         records[variant.reference_key] = nullptr;
         if (missing_records.insert(variant.reference_key).second)
-          report.notes.push_back(fmt::format("The reference record {} is missing: no noise floor or convergence plot{}.",
+          report.notes.push_back(fmt::format("The reference record {} is missing: no reference error or convergence plot{}.",
                                              path.string(), report.multi() ? " for variant " + variant.name : ""));
       }
     }
     variant.reference = records[variant.reference_key];
-    const json& floor = member(variant.reference, "noise_floor");
-    if (floor.is_number()) variant.noise_floor = floor.get<double>();
+    const json& floor = member(variant.reference, "error_estimate");
+    if (floor.is_number()) variant.reference_error = floor.get<double>();
     const json& history = member(variant.reference, "history");
     if (history.is_array()) variant.history = history;
   }

@@ -94,7 +94,7 @@ struct Variant {
   json resolution, overrides;  // as experiment.json states them (null when it does not)
   bool listed = true;          // false: named by a run record only
   json reference;              // the reference's record.json, or null
-  std::optional<double> noise_floor;
+  std::optional<double> reference_error;
   json history = json::array();
 };
 

@@ -128,7 +128,7 @@ ClaimCounts count_claims(const Report& report);
 std::string primary_caption(const Report& report, const Run& run);
 // The experiment's facts beside the environment: source, scene, resolution, frames, references, ...
 std::vector<std::pair<std::string, std::string>> experiment_facts(const Report& report);
-// One-line findings: run counts, claims, and per variant the best, fastest, overall front, noise floor.
+// One-line findings: run counts, claims, and per variant the best, fastest, overall front, reference error.
 std::vector<std::string> findings(const Report& report, bool html);
 
 // ---------------------------------------------------------------------------------------------------

@@ -135,7 +135,7 @@ void make_tradeoff_plot(Report& report, const Tradeoff& tradeoff, bool first) {
       tradeoff.x, xq ? xq->definition : "?", tradeoff.y, yq ? yq->definition : "?");
   if (report.multi())
     caption += " Fronts are computed within each scene variant: a run competes only with runs of its own variant.";
-  if (!floors.empty()) caption += " Below the dashed noise floor the reference cannot tell errors apart.";
+  if (!floors.empty()) caption += " Below the dashed reference error the reference cannot tell errors apart.";
   std::string id = first && tradeoff.x == "frame_ms" && tradeoff.y == report.primary
                        ? "plot-tradeoff"
                        : "plot-tradeoff-" + file_safe(tradeoff.x) + "-" + file_safe(tradeoff.y);

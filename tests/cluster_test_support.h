@@ -23,7 +23,7 @@ namespace causticbench::testing {
 // Three groups sharing one prepare() each (photons is a build knob of photon_map), two runs per group.
 inline const char* const kClusterSweep = R"(name: sweep
 scene: scene.yaml
-reference: {photons_per_pass: 20000, max_passes: 2, target_noise_floor: 0}
+reference: {photons_per_pass: 20000, max_passes: 2, target_error: 0}
 repetitions: 1
 methods:
   - method: photon_map

@@ -220,9 +220,9 @@ class ReportTest : public ::testing::Test {
     json history = json::array();
     for (int pass = 1; pass <= 8; ++pass)
       history.push_back(
-          {{"pass", pass}, {"photons", 2000000 * pass}, {"seconds", 0.4 * pass}, {"noise_floor", 4e-3 / pass}});
+          {{"pass", pass}, {"photons", 2000000 * pass}, {"seconds", 0.4 * pass}, {"error_estimate", 4e-3 / pass}});
     write_json(reference / "record.json",
-               {{"method", "reference"}, {"passes", 8}, {"seconds", 3.2}, {"noise_floor", 5e-4}, {"history", history}});
+               {{"method", "reference"}, {"passes", 8}, {"seconds", 3.2}, {"error_estimate", 5e-4}, {"history", history}});
     fs::create_directories(reference);
     write_exr(blob(0.0), (reference / "frame_0000.exr").string());
 

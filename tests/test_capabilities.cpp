@@ -122,7 +122,7 @@ int judged_frame(const Case& c) { return c.study->report.capability_matrix.at("f
 struct ReferenceImage {
   GBuffer gbuffer;
   Image caustic;
-  double noise_floor = 0.0;
+  double reference_error = 0.0;
   double seconds = 0.0;
 };
 
@@ -144,7 +144,7 @@ const ReferenceImage& reference_for(const Case& c) {
   FrameResult result = causticbench::testing::render(scene_for(c), "reference", knob_texts(c.study->reference_params),
                                                      judged_frame(c));
   ReferenceImage image;
-  image.noise_floor = result.method_record["noise_floor"].get<double>();
+  image.reference_error = result.method_record["error_estimate"].get<double>();
   image.seconds = result.method_record["seconds"].get<double>();
   image.gbuffer = std::move(result.gbuffer);
   image.caustic = std::move(result.caustic);
@@ -272,7 +272,7 @@ TEST_P(CapabilityConformance, DeclarationMatchesMeasurement) {
   // sit an order of magnitude below the bound it is used to judge, and it must see a caustic at all.
   const ReferenceImage& reference = reference_for(c);
   ASSERT_GT(masked_sum(reference.caustic, reference.gbuffer.receiver), 0.0) << capability << ": the reference sees no caustic";
-  ASSERT_LT(reference.noise_floor, kCapabilityReferenceNoiseLimit) << capability << ": reference noise floor";
+  ASSERT_LT(reference.reference_error, kCapabilityReferenceNoiseLimit) << capability << ": reference error";
   Measurement m = measure(method, c);
   if (!c.built_on().empty() && !declares(method, c.built_on())) {
     m.agrees = true;
@@ -287,7 +287,7 @@ TEST_P(CapabilityConformance, DeclarationMatchesMeasurement) {
                                        : "denied capability is neither refused nor measurably wrong: ")
                         << describe(m);
   measurements().push_back(m);
-  std::printf("%s (reference: noise floor %.2g, %.2f s)\n", describe(m).c_str(), reference.noise_floor, reference.seconds);
+  std::printf("%s (reference: estimated error %.2g, %.2f s)\n", describe(m).c_str(), reference.reference_error, reference.seconds);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllMethods, CapabilityConformance,

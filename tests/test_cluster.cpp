@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <thread>
 
 #include <fmt/format.h>
@@ -39,6 +40,8 @@ const bool kStaleAfterTwoSeconds = (::setenv("CAUSTICBENCH_LOCK_STALE_SECONDS", 
 using causticbench::testing::kClusterSweep;
 using causticbench::testing::stored_keys;
 using causticbench::testing::SweepFolder;
+using causticbench::testing::read_whole_file;
+using causticbench::testing::run_command;
 
 std::string line_of(const std::string& path) {
   std::ifstream stream(path);
@@ -318,4 +321,63 @@ TEST(SweepStatusCommand, WithoutAPlanFromExperimentJson) {
   EXPECT_EQ(finished.output.find("shards ("), std::string::npos) << finished.output;
   Finished missing = folder.command({"status", folder.results + "/nothing"});
   EXPECT_EQ(missing.code, 2) << missing.output;
+}
+
+// Issue 30, defect 9: paths reach the job scripts. A newline in --results (or in the experiment's path)
+// used to be written raw into `#SBATCH --output=` and a comment, so the text after it ran as a command in
+// the job, and sbatch stopped reading directives there (losing --array). It is refused now, before
+// anything is written. A path with spaces, quotes, '$(...)', ';', a backslash and '%' is quoted: sbatch's
+// directive reads it as one word ('%' doubled, since Slurm expands %j and the like in --output), and the
+// job's commands, run here by bash as Slurm would, find the experiment and results where they are and run
+// nothing else.
+TEST(SlurmJobs, HostilePathsAreRefusedOrQuoted) {
+  SweepFolder folder("hostile_paths");
+  const std::string injected = folder.path("injected");
+  Finished newline = folder.command({"slurm", folder.file, "--shards", "2", "--results",
+                                     folder.path("results\ntouch " + injected + "\n#")});
+  EXPECT_EQ(newline.code, 2) << newline.output;
+  EXPECT_NE(newline.output.find("control characters"), std::string::npos) << newline.output;
+  EXPECT_FALSE(std::filesystem::exists(folder.path("results"))) << "nothing written";
+
+  const std::string hostile = folder.path("my results 100% \"q\" 'p' $(touch " + injected + "); `touch " + injected +
+                                          "` back\\slash");
+  Finished quoted = folder.command({"slurm", folder.file, "--shards", "2", "--results", hostile});
+  ASSERT_EQ(quoted.code, 0) << quoted.output;
+  const std::filesystem::path jobs = std::filesystem::path(hostile) / "sweep" / "slurm";
+  const std::string prepare = read_whole_file(jobs / "prepare.sbatch");
+  // Every directive comes before the first command, and --output is one double-quoted word.
+  bool commands_started = false;
+  std::istringstream lines(prepare);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("#SBATCH", 0) == 0) EXPECT_FALSE(commands_started) << line;
+    else if (!line.empty() && line[0] != '#') commands_started = true;
+  }
+  std::string logs = (jobs / "logs").string(), escaped;
+  for (char c : logs) {
+    if (c == '"' || c == '\\') escaped += '\\';
+    if (c == '%') escaped += '%';
+    escaped += c;
+  }
+  EXPECT_NE(prepare.find("#SBATCH \"--output=" + escaped + "/prepare-%j.out\"\n"), std::string::npos) << prepare;
+  // The job as Slurm would run it: its command computes the reference into the hostile folder.
+  std::ofstream(folder.path("prepare.sbatch")) << prepare;  // a path the test's own shell command can hold
+  std::string output;
+  int code = run_command("cd " + folder.path() + " && bash prepare.sbatch 2>&1 </dev/null", output);
+  EXPECT_EQ(code, 0) << output;
+  EXPECT_FALSE(std::filesystem::exists(injected)) << "no command ran from the path";
+  EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(hostile) / "references")) << output;
+}
+
+// Issue 30, defect 13: a garbled slurm/shard-plan.json made `status` exit 2 and report nothing. It reports
+// the damage and counts the runs of experiment.json instead.
+TEST(SweepStatusCommand, AGarbledPlanIsReportedAndExperimentJsonCounts) {
+  SweepFolder folder("status_garbled_plan");
+  ASSERT_EQ(folder.run({"--filter", "photons=1000"}).code, 0);
+  const std::string sweep = folder.results + "/sweep";
+  std::filesystem::create_directories(sweep + "/slurm");
+  std::ofstream(sweep + "/slurm/shard-plan.json") << "{\"experiment\": \"sweep\", \"shards\": [";
+  Finished finished = folder.command({"status", sweep});
+  EXPECT_EQ(finished.code, 3) << finished.output;
+  EXPECT_NE(finished.output.find("warning: the shard plan is damaged"), std::string::npos) << finished.output;
+  EXPECT_NE(finished.output.find("6 runs: 2 stored ok, 0 failed, 4 pending"), std::string::npos) << finished.output;
 }

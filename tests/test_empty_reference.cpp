@@ -50,7 +50,7 @@ std::vector<std::string> stored_runs(const fs::path& runs) {
 std::string dish_experiment(const std::string& extra = "") {
   return "name: turned_over\nscene: " + kTurnedOverDish + R"(
 overrides: {resolution: [32, 32]}
-reference: {photons_per_pass: 20000, max_passes: 2, target_noise_floor: 0}
+reference: {photons_per_pass: 20000, max_passes: 2, target_error: 0}
 repetitions: 1
 methods:
   - method: pinhole
@@ -104,7 +104,7 @@ TEST(CausticPresence, TurnedOverDishHasNoCausticInView) {
     Scene scene = load_scene(file);
     set_resolution(scene, 48, 48);
     FrameResult result = causticbench::testing::render(
-        scene, "reference", {"photons_per_pass=40000", "max_passes=2", "target_noise_floor=0", "max_seconds=0"});
+        scene, "reference", {"photons_per_pass=40000", "max_passes=2", "target_error=0", "max_seconds=0"});
     PosedFrame posed(scene, 0);
     Image direct = direct_irradiance(posed.tracer, posed.gbuffer, 4, 1);
     return measure_caustic_presence(result.caustic, direct, result.gbuffer.receiver);
@@ -149,7 +149,7 @@ TEST(EmptyReferenceRun, EveryVariantIsCheckedBeforeAnyRunAndStoredRunsStay) {
   folder.write("scene.yaml", scene);
   const std::string base = R"(name: two_views
 scene: scene.yaml
-reference: {photons_per_pass: 20000, max_passes: 2, target_noise_floor: 0}
+reference: {photons_per_pass: 20000, max_passes: 2, target_error: 0}
 repetitions: 1
 methods:
   - method: photon_map
@@ -230,7 +230,7 @@ TEST(EmptyReferenceRun, ExpectedEmptyReferenceRunsAndIsReportedAsSuch) {
 TEST(EmptyReferenceRender, ReferenceWarnsWhenNothingIsInView) {
   Folder folder("render");
   const std::string knobs =
-      " --method reference --set photons_per_pass=20000 --set max_passes=2 --set target_noise_floor=0"
+      " --method reference --set photons_per_pass=20000 --set max_passes=2 --set target_error=0"
       " --resolution 24x24 --direct-samples 4";
   std::string output;
   int code = run_cli("render " + kTurnedOverDish + knobs + " --out " + folder.path("dish"), output);

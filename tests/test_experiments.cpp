@@ -36,7 +36,7 @@ class ExperimentFolder : public causticbench::testing::TemporaryFolder {
 
 const char* kExperiment = R"(name: tiny
 scene: scene.yaml
-reference: {photons_per_pass: 100000, max_passes: 3, target_noise_floor: 0}
+reference: {photons_per_pass: 100000, max_passes: 3, target_error: 0}
 repetitions: 1
 methods:
   - method: photon_map
@@ -97,7 +97,7 @@ TEST(Experiment, ExpandsAndKeysAreStableAcrossKeyOrder) {
     render: {max_radius: 0.30}
     method: photon_map
 repetitions: 1
-reference: {target_noise_floor: 0, max_passes: 3, photons_per_pass: 100000}
+reference: {target_error: 0, max_passes: 3, photons_per_pass: 100000}
 scene: scene.yaml
 name: tiny
 )"));

@@ -78,7 +78,7 @@ class Folder : public causticbench::testing::TemporaryFolder {
 };
 
 const char* kHeader = R"(scene: scene.yaml
-reference: {photons_per_pass: 20000, max_passes: 1, target_noise_floor: 0}
+reference: {photons_per_pass: 20000, max_passes: 1, target_error: 0}
 repetitions: 2
 metrics: [relmse, energy_ratio]
 )";

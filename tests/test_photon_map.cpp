@@ -10,7 +10,7 @@ using causticbench::testing::scene_from_yaml;
 
 TEST(PhotonMap, ConvergesToTheReference) {
   Scene scene = scene_from_yaml(causticbench::testing::kSmallGlassSphere);
-  FrameResult reference = render(scene, "reference", {"photons_per_pass=400000", "max_passes=60", "target_noise_floor=0"});
+  FrameResult reference = render(scene, "reference", {"photons_per_pass=400000", "max_passes=60", "target_error=0"});
   std::vector<double> errors, energy;
   // A consistent density estimate needs k to grow with the photon count (variance ~ 1/k) while the
   // radius shrinks (bias): k ~ sqrt(photons).

@@ -349,7 +349,7 @@ TEST(PinholeThroughput, PackedTexelsKeepEveryChannelWithinTheirStatedPrecision) 
 
 TEST(Pinhole, ConvergesToTheReference) {
   Scene scene = scene_from_yaml(kMirrorSphere);
-  FrameResult reference = render(scene, "reference", {"photons_per_pass=400000", "max_passes=40", "target_noise_floor=0"});
+  FrameResult reference = render(scene, "reference", {"photons_per_pass=400000", "max_passes=40", "target_error=0"});
   std::vector<double> errors;
   for (int samples : {30, 300, 3000}) {
     FrameResult run = render(scene, "pinhole", {"samples=" + std::to_string(samples)});
@@ -498,7 +498,7 @@ objects:
   // between the backends, each about 0.003 from the reference). lavapipe's anisotropic cube-map
   // filtering does not: 0.14 from the reference against the CPU's 0.003 (see methods/pinhole/README.md),
   // so only its flux is held to the bound here.
-  FrameResult reference = render(mirror, "reference", {"photons_per_pass=400000", "max_passes=40", "target_noise_floor=0"});
+  FrameResult reference = render(mirror, "reference", {"photons_per_pass=400000", "max_passes=40", "target_error=0"});
   double reference_flux = masked_sum(reference.caustic, reference.gbuffer.receiver);
   for (const char* filtering : {"filtering=isotropic", "filtering=anisotropic"}) {
     FrameResult cpu = render(mirror, "pinhole", {"samples=3000", filtering, "filter_implementation=oiio"});

@@ -105,7 +105,7 @@ bool is_missing_or_empty(const fs::path& folder) { return !fs::exists(folder) ||
 std::string write_valid_experiment(const TemporaryFolder& folder) {
   return folder.write("valid.yaml", "name: valid\nscene: " + (kCorpus / "scene.yaml").string() +
                                         "\nrepetitions: 1\n"
-                                        "reference: {photons_per_pass: 10000, max_passes: 1, target_noise_floor: 0}\n"
+                                        "reference: {photons_per_pass: 10000, max_passes: 1, target_error: 0}\n"
                                         "methods:\n  - method: photon_map\n    sweep: {photons: [1000, 2000]}\n");
 }
 
@@ -363,7 +363,13 @@ TEST(ReliabilityLimits, EnvironmentMapDefectsNameTheSceneLine) {
   map.at(1, 2) = std::numeric_limits<float>::quiet_NaN();
   write_exr(map, folder.path("nan.exr").string());
   std::ofstream(folder.path("truncated.exr")) << read_text(folder.path("nan.exr").string()).substr(0, 40);
-  for (std::string image : {"nan.exr", "truncated.exr"}) {
+  // Issue 30, defect 3: finite texels of 3e38 overflowed the sums (NaN pixels, exit 0), and a 1 x 1 black
+  // map divided 0 by 0 in its sampling pdf.
+  Image huge(4, 2, 3);
+  for (size_t pixel = 0; pixel < huge.pixel_count(); ++pixel) huge.at(pixel, 1) = 3e38f;
+  write_exr(huge, folder.path("huge.exr").string());
+  write_exr(Image(1, 1, 3), folder.path("black.exr").string());
+  for (std::string image : {"nan.exr", "truncated.exr", "huge.exr", "black.exr"}) {
     std::string scene = folder.write("scene.yaml", "camera: {position: [0, 2, 3], look_at: [0, 0, 0], resolution: [8, 8]}\n"
                                                    "lights:\n  - {type: environment, image: " + image +
                                                        "}\nobjects:\n  - shape: {type: quad, size: [4, 4]}\n"
@@ -375,6 +381,14 @@ TEST(ReliabilityLimits, EnvironmentMapDefectsNameTheSceneLine) {
         << message;
     if (image == "nan.exr") {
       EXPECT_NE(message.find("texel (1, 0) channel 2 is nan"), std::string::npos) << message;
+    }
+    if (image == "huge.exr") {
+      EXPECT_NE(message.find("texel (0, 0) channel 1 is 3e+38 (times scale 1): expected radiance of at most 1e+20"),
+                std::string::npos)
+          << message;
+    }
+    if (image == "black.exr") {
+      EXPECT_NE(message.find("every texel is black (1 x 1)"), std::string::npos) << message;
     }
   }
 }
@@ -456,6 +470,23 @@ TEST(ReliabilityLimits, ResultsFolderProblemsAreInputErrors) {
     EXPECT_EQ(code, 2) << output;
     EXPECT_NE(output.find("--results: expected a folder to write results into, found '"), std::string::npos) << output;
     EXPECT_NE(output.find(item.expected), std::string::npos) << output;
+  }
+  EXPECT_EQ(read_text(folder.path("a_file").string()), "not a folder\n");
+}
+
+// Issue 30, defect 12: --build-cache is checked like --results before any work. A file there used to give
+// "internal error: filesystem error" (exit 1) after the build was computed.
+TEST(ReliabilityLimits, BuildCacheFolderProblemsAreInputErrors) {
+  TemporaryFolder folder("build_cache_folder");
+  folder.write("a_file", "not a folder\n");
+  for (const fs::path& cache : {folder.path("a_file"), folder.path("a_file") / "builds"}) {
+    std::string output;
+    int code = causticbench_command("render " + shell_quoted(kCorpus / "scene.yaml") + " --method photon_map --set photons=1000 "
+                                    "--out " + shell_quoted(folder.path("out")) + " --build-cache " + shell_quoted(cache),
+                                    output);
+    EXPECT_EQ(code, 2) << output;
+    EXPECT_NE(output.find("--build-cache: expected a folder to write stored builds into, found '"), std::string::npos) << output;
+    EXPECT_TRUE(is_missing_or_empty(folder.path("out"))) << "nothing rendered or written";
   }
   EXPECT_EQ(read_text(folder.path("a_file").string()), "not a folder\n");
 }

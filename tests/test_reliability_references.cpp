@@ -152,13 +152,13 @@ TEST(Corruption, AnEditedMeshComputesItsReferenceAndRunsAgain) {
 // ---------------------------------------------------------------------------------------------------
 // References that do and do not depend on the machine.
 
-// Stopped on its pass count or its noise floor, the reference is the same image on 1 and 2 threads.
+// Stopped on its pass count or its reference error, the reference is the same image on 1 and 2 threads.
 TEST(Reference, SameSeedGivesTheSameImageOnAnyThreadCount) {
   Scene scene = causticbench::testing::scene_from_yaml(causticbench::testing::replace_once(
       causticbench::testing::kSmallGlassSphere, "resolution: [40, 40]", "resolution: [24, 24]"));
   const std::vector<std::vector<std::string>> stops = {
-      {"photons_per_pass=20000", "max_passes=3", "target_noise_floor=0", "max_seconds=0"},
-      {"photons_per_pass=20000", "max_passes=1000", "target_noise_floor=0.015", "min_passes=2", "max_seconds=0"}};
+      {"photons_per_pass=20000", "max_passes=3", "target_error=0", "max_seconds=0"},
+      {"photons_per_pass=20000", "max_passes=1000", "target_error=0.015", "min_passes=2", "max_seconds=0"}};
   for (const std::vector<std::string>& knobs : stops) {
     auto render_on = [&](int threads) {
       ThreadLimit limit(threads);
@@ -166,7 +166,7 @@ TEST(Reference, SameSeedGivesTheSameImageOnAnyThreadCount) {
     };
     FrameResult one = render_on(1), two = render_on(2);
     EXPECT_EQ(one.method_record["passes"], two.method_record["passes"]);
-    EXPECT_EQ(one.method_record["stop_reason"], knobs[2] == "target_noise_floor=0" ? "max_passes" : "target_noise_floor");
+    EXPECT_EQ(one.method_record["stop_reason"], knobs[2] == "target_error=0" ? "max_passes" : "target_error");
     EXPECT_TRUE(one.caustic.values() == two.caustic.values()) << knobs[2];
     EXPECT_EQ(encode_exr(one.caustic), encode_exr(two.caustic)) << "the stored bytes too";
   }
@@ -176,7 +176,7 @@ TEST(Reference, SameSeedGivesTheSameImageOnAnyThreadCount) {
 // against it and the report say so.
 TEST(Reference, ATimeCappedReferenceIsMarkedAndItsRunsSaySo) {
   StoreFolder folder("time_cap", causticbench::testing::replace_once(
-                                     kOneRun, "reference: {photons_per_pass: 20000, max_passes: 2, target_noise_floor: 0, max_seconds: 0}",
+                                     kOneRun, "reference: {photons_per_pass: 20000, max_passes: 2, target_error: 0, max_seconds: 0}",
                                      kTimeCapped));
   const Experiment experiment = folder.experiment();
   Finished run = run_process({"run", folder.experiment_file, "--results", folder.results}, folder.path("out.txt"));

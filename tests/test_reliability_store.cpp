@@ -8,6 +8,7 @@
 #include <sys/mount.h>
 
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -135,7 +136,7 @@ void run_together(const StoreFolder& folder, const std::vector<std::string>& fir
 // of it differ): it is computed once, and every run of both shards is measured against the stored one.
 TEST(Concurrency, TwoShardsStartedTogetherComputeTheReferenceOnce) {
   StoreFolder folder("shards", causticbench::testing::replace_once(
-                                   kFourRuns, "reference: {photons_per_pass: 20000, max_passes: 2, target_noise_floor: 0, max_seconds: 0}",
+                                   kFourRuns, "reference: {photons_per_pass: 20000, max_passes: 2, target_error: 0, max_seconds: 0}",
                                    kTimeCapped));
   std::vector<std::string> first = folder.run_arguments(), second = folder.run_arguments();
   first.insert(first.end(), {"--shard", "0/2"});
@@ -330,4 +331,122 @@ TEST(FullDisk, AFullFileSystemIsNamedAndNothingIsHalfWritten) {
   fs::remove(filler);
   Finished again = folder.run({}, {}, results);
   EXPECT_NE(again.output.find("1 already stored"), std::string::npos) << again.output;
+}
+
+// Issue 30, defect 7: once the reference settings change, every stored run was measured against another
+// reference. `run` measures it again against the new one (it used to say "1 already stored, 0 run now"),
+// and `status` counts it pending while experiment.json names the new reference (it used to say complete).
+TEST(StaleRuns, AreMeasuredAgainAfterTheReferenceChanges) {
+  StoreFolder folder("stale_runs");
+  ASSERT_EQ(folder.run().code, 0);
+  const Experiment before = folder.experiment();
+  folder.write("store.yaml", causticbench::testing::replace_once(kOneRun, "max_passes: 2", "max_passes: 3"));
+  const Experiment after = folder.experiment();
+  ASSERT_NE(before.variants[0].reference_key, after.variants[0].reference_key);
+  ASSERT_EQ(before.runs[0].key, after.runs[0].key) << "the run's own key hashes its knobs, not the reference's";
+
+  // status, with experiment.json naming the new reference (as `run` writes it before it measures).
+  const std::string sweep = folder.results + "/store";
+  std::string json_text = read_all(fs::path(sweep) / "experiment.json");
+  // Every occurrence: the experiment's and its variant's.
+  std::string changed = json_text;
+  for (size_t at; (at = changed.find(before.variants[0].reference_key)) != std::string::npos;)
+    changed.replace(at, before.variants[0].reference_key.size(), after.variants[0].reference_key);
+  std::ofstream(fs::path(sweep) / "experiment.json") << changed;
+  Finished status = run_process({"status", sweep}, folder.path("status.txt"));
+  EXPECT_EQ(status.code, 3) << status.output;
+  std::ofstream(fs::path(sweep) / "experiment.json") << json_text;
+
+  Finished again = folder.run();
+  ASSERT_EQ(again.code, 0) << again.output;
+  EXPECT_EQ(runs_now(again.output), 1) << again.output;
+  EXPECT_NE(again.output.find("measuring the run again"), std::string::npos) << again.output;
+  expect_complete(after, folder.results);
+  Finished third = folder.run();
+  EXPECT_EQ(runs_now(third.output), 0) << "measured once against the new reference, it is stored";
+}
+
+// Issue 30, defect 13: a hand-edited record with a negative time or an infinite metric used to count as a
+// stored, ok run (and could win a front). It is damaged: not counted, named, and measured again.
+TEST(StoredRecords, ImpossibleMeasurementsAreDamaged) {
+  StoreFolder folder("impossible_values");
+  ASSERT_EQ(folder.run().code, 0);
+  const Experiment experiment = folder.experiment();
+  const std::string run_folder = ResultPaths{folder.results}.run(experiment.name, experiment.runs[0].key);
+  const std::string original = read_all(fs::path(run_folder) / "record.json");
+  nlohmann::json record = nlohmann::json::parse(original);
+  ASSERT_TRUE(record["frames"][0]["render_ms"].is_array());
+  struct Edit {
+    std::string what;
+    std::function<void(nlohmann::json&)> apply;
+    std::string expected;
+  };
+  const std::vector<Edit> edits = {
+      {"negative render time", [](nlohmann::json& r) { r["frames"][0]["render_ms"][0] = -5.0; },
+       "holds a time of -5 ms: expected a finite time >= 0"},
+      {"negative prepare time", [](nlohmann::json& r) { r["prepare"]["prepare_seconds"] = -1.0; },
+       "a prepare time of -1 s"},
+      // Beyond the largest double: no JSON reader takes it as a number, so the record is damaged whole.
+      {"overflowing metric", [](nlohmann::json& r) { r["metrics"]["relmse"] = std::numeric_limits<double>::infinity(); },
+       "record.json"}};
+  for (const Edit& edit : edits) {
+    nlohmann::json edited = record;
+    edit.apply(edited);
+    std::string text = edited.dump(2);
+    // nlohmann writes infinity as null; the hand edit the issue found wrote 1.8e308, which parses as infinity.
+    for (size_t at; (at = text.find("\"relmse\": null")) != std::string::npos;) text.replace(at, 14, "\"relmse\": 1.8e308");
+    std::ofstream(fs::path(run_folder) / "record.json") << text;
+    StoredRun stored = inspect_stored_run(run_folder);
+    EXPECT_EQ(stored.state, StoredRun::State::damaged) << edit.what;
+    EXPECT_NE(stored.problem.find(edit.expected), std::string::npos) << edit.what << ": " << stored.problem;
+    Finished again = folder.run();
+    EXPECT_EQ(runs_now(again.output), 1) << edit.what << ": " << again.output;
+    expect_complete(experiment, folder.results);
+  }
+}
+
+// Issue 30, defect 6: a method's build files were written with a plain stream, so a full disk while
+// photon_map wrote photons.bin was stored as a failed run ("write failed", no errno name), `status` called
+// the sweep complete and nothing was retried once space was freed. They go through the store's atomic
+// writes now: the write names the file and ENOSPC, `run` exits 1, the run stays pending, and the next run
+// after the space is back measures it.
+TEST(FullDisk, ABuildFileThatCannotBeWrittenLeavesTheRunPending) {
+  StoreFolder folder("build_full");
+  const Experiment experiment = folder.experiment();
+  Finished failed = folder.run({}, {"CAUSTICBENCH_FAULT_INJECT=fail@photons.bin"});
+  EXPECT_EQ(failed.code, 1) << failed.output;
+  EXPECT_NE(failed.output.find("photons.bin: No space left on device (ENOSPC)"), std::string::npos) << failed.output;
+  StoredRun stored = inspect_stored_run(ResultPaths{folder.results}.run(experiment.name, experiment.runs[0].key));
+  EXPECT_EQ(stored.state, StoredRun::State::absent) << "the run is not stored, as failed or otherwise";
+  Finished status = run_process({"status", folder.results + "/store"}, folder.path("status.txt"));
+  EXPECT_EQ(status.code, 3) << status.output;
+  EXPECT_EQ(leftovers(folder.results), std::vector<std::string>());
+  Finished again = folder.run();
+  ASSERT_EQ(again.code, 0) << again.output;
+  EXPECT_EQ(runs_now(again.output), 1) << again.output;
+  expect_complete(experiment, folder.results);
+}
+
+// Runs that differ only in render knobs share one prepared instance; each record holds its own method
+// record, counters and memory, taken right after its own render (it used to hold the group's last run's:
+// every reference_convergence.yaml run reported the error estimate of the last one).
+TEST(StoredRecords, EachRunOfASharedInstanceKeepsItsOwnMethodRecord) {
+  StoreFolder folder("own_method_record", R"(name: store
+scene: scene.yaml
+reference: {photons_per_pass: 20000, max_passes: 2, target_error: 0, max_seconds: 0}
+repetitions: 1
+methods:
+  - method: reference
+    render: {photons_per_pass: 2000, min_passes: 1, target_error: 0, max_seconds: 0}
+    sweep:
+      max_passes: [1, 2, 3]
+)");
+  ASSERT_EQ(folder.run().code, 0);
+  const Experiment experiment = folder.experiment();
+  ASSERT_EQ(experiment.runs.size(), 3u);
+  for (const RunSpec& run : experiment.runs) {
+    nlohmann::json record = nlohmann::json::parse(record_text(experiment, folder.results, run));
+    EXPECT_EQ(record["method_record"]["passes"].get<int64_t>(), run.params.integer("max_passes")) << run.label;
+    EXPECT_EQ(record["counters"]["passes"].get<double>(), static_cast<double>(run.params.integer("max_passes"))) << run.label;
+  }
 }

@@ -16,6 +16,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/errors.h"
+#include "core/files.h"
 #include "core/image.h"
 #include "metrics/metrics.h"
 #include "reports/report.h"
@@ -463,6 +464,25 @@ TEST_F(ReportTest, RejectsFoldersThatAreNotExperiments) {
   EXPECT_THROW(write_report((folder / "experiment.json").string()), InputError);
   std::ofstream(folder / "experiment.json") << "{ not json";
   EXPECT_THROW(write_report(folder.string()), InputError);
+}
+
+
+// Issue 30, defect 8: a report removed every PNG it had not written itself, another process's temporary
+// file included (a run or a second report of the experiment at work), which then failed; and the vendored
+// bundle was copied through one temporary name shared by every process. A temporary file of a write in
+// progress stays; a stale image of a run no longer in the experiment goes; the bundle leaves no temporary.
+TEST_F(ReportTest, AnotherProcessesTemporaryImageIsLeftAlone) {
+  write_report(folder.string());
+  const fs::path images = folder / "report";
+  const std::string in_progress = "pm_1e4_ec.png.partial." + host_name() + "-" + std::to_string(::getpid()) + ".7.png";
+  std::ofstream(images / in_progress) << "being written";
+  std::ofstream(images / "a_run_no_longer_there.png") << "stale";
+  write_report(folder.string());
+  EXPECT_TRUE(fs::exists(images / in_progress));
+  EXPECT_FALSE(fs::exists(images / "a_run_no_longer_there.png"));
+  for (const auto& entry : fs::directory_iterator(images / "vendor"))
+    EXPECT_FALSE(is_partial_file_name(entry.path().filename().string())) << entry.path();
+  EXPECT_TRUE(is_partial_file_name(in_progress));
 }
 
 }  // namespace

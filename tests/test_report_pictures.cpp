@@ -106,8 +106,8 @@ TEST_F(ReportTest, PlotsRenderOfflineInChromium) {
   EXPECT_GE(count(dom, "class=\"marks\""), summary.plots) << "every plot is drawn as an SVG";
   EXPECT_EQ(count(dom, "class=\"plot-error\""), 0u) << "vega-embed reported an error";
   EXPECT_EQ(dom.find("Error"), std::string::npos) << "vega-embed reported an error";
-  // The SVG holds the plotted points (one path per symbol) and the noise floor label.
-  EXPECT_NE(dom.find("reference noise floor"), std::string::npos);
+  // The SVG holds the plotted points (one path per symbol) and the reference error label.
+  EXPECT_NE(dom.find("reference error"), std::string::npos);
 }
 
 }  // namespace

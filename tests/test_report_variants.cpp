@@ -35,7 +35,7 @@ struct VariantSpec {
   int receiver_pixels;
   float gain;
   std::string reference_key;
-  double noise_floor;
+  double reference_error;
 };
 
 struct VariantFakeRun {
@@ -96,11 +96,11 @@ class VariantReportTest : public ::testing::Test {
       fs::path reference = root / "results" / "references" / variant.reference_key;
       json history = json::array();
       for (int pass = 1; pass <= 4; ++pass)
-        history.push_back({{"pass", pass}, {"seconds", 0.5 * pass}, {"noise_floor", 4.0 * variant.noise_floor / pass}});
+        history.push_back({{"pass", pass}, {"seconds", 0.5 * pass}, {"error_estimate", 4.0 * variant.reference_error / pass}});
       write_json(reference / "record.json", {{"method", "reference"},
                                              {"passes", 4},
                                              {"seconds", 2.0},
-                                             {"noise_floor", variant.noise_floor},
+                                             {"error_estimate", variant.reference_error},
                                              {"history", history}});
       write_exr(scaled(blob(0.0, variant.width, variant.height), variant.gain),
                 (reference / "frame_0000.exr").string());
@@ -233,20 +233,20 @@ TEST_F(VariantReportTest, EachRunIsComparedWithItsOwnVariantsReference) {
   }
   // The colour bar names each variant's saturation value: the reference means differ by the gains.
   EXPECT_NE(md.find("the mean of the run's own reference (96x72 "), std::string::npos) << md;
-  // Each variant's noise floor in the facts, the findings and the plots.
-  EXPECT_NE(md.find("- variant 192x144: 192 x 144; overrides {\"resolution\":[192,144]}; reference ref192, noise "
-                    "floor 0.0002, 4 passes, 2 s"),
+  // Each variant's reference error in the facts, the findings and the plots.
+  EXPECT_NE(md.find("- variant 192x144: 192 x 144; overrides {\"resolution\":[192,144]}; reference ref192, "
+                    "reference error 0.0002, 4 passes, 2 s"),
             std::string::npos)
       << md;
-  EXPECT_NE(md.find("The reference's noise floor (variant 384x288) 0.0004 is well below the best relMSE"),
+  EXPECT_NE(md.find("The reference's estimated error (variant 384x288) 0.0004 is well below the best relMSE"),
             std::string::npos)
       << md;
   for (const VariantSpec& variant : variants)
-    EXPECT_NE(page.find("reference noise floor " + variant.name), std::string::npos) << variant.name;
+    EXPECT_NE(page.find("reference error " + variant.name), std::string::npos) << variant.name;
   json results = json::parse(read_text(summary.json));
   ASSERT_EQ(results["variants"].size(), 3u);
   EXPECT_EQ(results["variants"][1]["reference_key"], "ref192");
-  EXPECT_EQ(results["variants"][1]["noise_floor"], 2e-4);
+  EXPECT_EQ(results["variants"][1]["error_estimate"], 2e-4);
   EXPECT_EQ(results["reference"]["key"], "ref96") << "the first variant's, as before";
 }
 
@@ -369,7 +369,7 @@ TEST_F(VariantReportTest, PlotsRenderOfflineInChromium) {
   EXPECT_GE(count(dom, "class=\"marks\""), summary.plots) << "every plot is drawn as an SVG";
   EXPECT_EQ(count(dom, "class=\"plot-error\""), 0u) << "vega-embed reported an error";
   EXPECT_EQ(dom.find("Error"), std::string::npos) << "vega-embed reported an error";
-  EXPECT_NE(dom.find("reference noise floor 384x288"), std::string::npos);
+  EXPECT_NE(dom.find("reference error 384x288"), std::string::npos);
 }
 
 }  // namespace

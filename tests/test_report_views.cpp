@@ -322,7 +322,7 @@ TEST(RecomputeMetrics, GivesTheNumbersOfTheRunAndAddsNewMetrics) {
                                                                  "resolution: [40, 40]", "resolution: [24, 24]"));
   const std::string experiment_file = folder.write("tiny.yaml", R"(name: tiny
 scene: scene.yaml
-reference: {photons_per_pass: 100000, max_passes: 2, target_noise_floor: 0}
+reference: {photons_per_pass: 100000, max_passes: 2, target_error: 0}
 repetitions: 1
 metrics: [relmse, psnr, flip]
 methods:

@@ -102,7 +102,7 @@ class SummarizeTest : public ::testing::Test {
                                             {"claims", claims}});
     write_json(folder / "environment.json", {{"machine", "test-host"}});
     write_json(results / "references" / ("ref_" + name) / "record.json",
-               {{"method", "reference"}, {"passes", 4}, {"seconds", 1.0}, {"noise_floor", 1e-4}});
+               {{"method", "reference"}, {"passes", 4}, {"seconds", 1.0}, {"error_estimate", 1e-4}});
     for (const SyntheticRun& run : runs) {
       RunRecord record;
       record.key = run.key;

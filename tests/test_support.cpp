@@ -26,7 +26,7 @@ objects:
 )";
 
 const std::vector<std::string> kSmallSceneReferenceKnobs = {"photons_per_pass=200000", "max_passes=6", "min_passes=1",
-                                                             "target_noise_floor=0", "max_seconds=0", "seed=7"};
+                                                             "target_error=0", "max_seconds=0", "seed=7"};
 
 Scene scene_from_yaml(const std::string& yaml, const std::string& name) {
   return load_scene_from_string(yaml, name, ".");
@@ -128,7 +128,7 @@ std::string tiny_experiment(const std::string& text, int resolution) {
   const std::string size = std::to_string(resolution);
   return replace_lines(
       text, {{"\noverrides:[^\n]*(\n  [^\n]*)*", "\noverrides: {resolution: [" + size + ", " + size + "]}"},
-             {"\nreference:[^\n]*(\n  [^\n]*)*", "\nreference: {photons_per_pass: 100000, max_passes: 2, target_noise_floor: 0}"},
+             {"\nreference:[^\n]*(\n  [^\n]*)*", "\nreference: {photons_per_pass: 100000, max_passes: 2, target_error: 0}"},
              {"\nrepetitions: [^\n]*", "\nrepetitions: 1"}});
 }
 

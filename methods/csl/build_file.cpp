@@ -5,15 +5,21 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "core/files.h"
+
 namespace causticbench::csl {
 
 namespace {
 
-constexpr char kFormat[] = "causticbench csl build 1";
+// 2: Fit::failed (issue 30). A build of format 1 is unreadable to this version: the build cache computes it
+// again, with its warning.
+constexpr char kFormat[] = "causticbench csl build 2";
 
+// Writes into the stream of the store's atomic write (core/files.h, write_stream_atomically), which checks
+// it and names the OS error of a failed write.
 class Writer {
  public:
-  explicit Writer(const std::string& path) : path_(path), stream_(path, std::ios::binary) {}
+  explicit Writer(std::ostream& stream) : stream_(stream) {}
   template <class T>
   void value(const T& v) {
     static_assert(std::is_trivially_copyable_v<T>);
@@ -26,14 +32,9 @@ class Writer {
     stream_.write(reinterpret_cast<const char*>(values.data()), static_cast<std::streamsize>(values.size() * sizeof(T)));
   }
   void bytes(const char* data, size_t size) { stream_.write(data, static_cast<std::streamsize>(size)); }
-  void finish() {
-    stream_.flush();
-    if (!stream_) throw std::runtime_error(path_ + ": write failed");
-  }
 
  private:
-  std::string path_;
-  std::ofstream stream_;
+  std::ostream& stream_;
 };
 
 class Reader {
@@ -222,16 +223,17 @@ DynamicSets read_dynamic(Reader& in) {
 }  // namespace
 
 void write_object_build(const std::string& path, const ObjectBuild& build) {
-  Writer out(path);
-  out.bytes(kFormat, sizeof(kFormat));
-  out.value<uint8_t>(build.dynamic ? 1 : 0);
-  if (build.dynamic) {
-    write_dynamic(out, *build.dynamic);
-  } else {
-    out.value<uint64_t>(build.sets.size());
-    for (const SpotLightSet& set : build.sets) write_set(out, set);
-  }
-  out.finish();
+  write_stream_atomically(path, [&](std::ostream& stream) {
+    Writer out(stream);
+    out.bytes(kFormat, sizeof(kFormat));
+    out.value<uint8_t>(build.dynamic ? 1 : 0);
+    if (build.dynamic) {
+      write_dynamic(out, *build.dynamic);
+    } else {
+      out.value<uint64_t>(build.sets.size());
+      for (const SpotLightSet& set : build.sets) write_set(out, set);
+    }
+  });
 }
 
 ObjectBuild read_object_build(const std::string& path) {

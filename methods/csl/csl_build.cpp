@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "core/files.h"
 #include "core/scene_description.h"
 #include "methods/csl/build_file.h"
 #include "methods/csl/csl.h"
@@ -54,9 +55,7 @@ void CslMethod::save_build(const std::string& folder) const {
     write_object_build((std::filesystem::path(folder) / name).string(), build);
     meta.push_back({{"file", name}, {"object", object.name}, {"light_sample_set", object.set_kind}});
   }
-  std::ofstream stream(std::filesystem::path(folder) / "objects.json");
-  stream << meta.dump(2) << "\n";
-  if (!stream) throw std::runtime_error(folder + "/objects.json: write failed");
+  write_text_atomically((std::filesystem::path(folder) / "objects.json").string(), meta.dump(2) + "\n");
 }
 
 void CslMethod::load_build(const PrepareContext& context, const ParamSet& build, const std::string& folder) {

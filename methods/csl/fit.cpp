@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include <mutex>
+
 #include <ceres/ceres.h>
+#include <glog/logging.h>
 
 namespace causticbench::csl {
 
@@ -28,7 +31,9 @@ struct RayResidual {
     const T length = ceres::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
     const T t1 = ceres::abs(travel);
     const T t2 = t1 + T(reach);
-    const T scale = ceres::sqrt(T(weight) * (t1 * t1 + t2 * t2));
+    // sqrt(w) apart: the derivative of sqrt(w x) at w = 0 is 0 / 0, which made every residual of a
+    // zero-weight ray's block NaN and failed the whole fit (issue 30, defect 5; t2 > 0 keeps this finite).
+    const T scale = T(std::sqrt(weight)) * ceres::sqrt(t1 * t1 + t2 * t2);
     for (int k = 0; k < 3; ++k) residual[k] = scale * (T(d[k]) - e[k] / length);
     return true;
   }
@@ -60,7 +65,9 @@ Fit fit_spot_light(const std::vector<CausticRay>& rays, const std::vector<uint32
   // The rays the objective sums over: an even stride through the bundle.
   std::vector<uint32_t> used;
   const size_t stride = std::max<size_t>(1, (members.size() + settings.max_rays - 1) / std::max(1, settings.max_rays));
-  for (size_t i = 0; i < members.size(); i += stride) used.push_back(members[i]);
+  // Rays that carry no energy add nothing to Eq. 5 (min_energy 0 keeps branches of vanishing energy).
+  for (size_t i = 0; i < members.size(); i += stride)
+    if (rays[members[i]].weight > 0.0f) used.push_back(members[i]);
   fit.rays_used = static_cast<int>(used.size());
   if (used.empty()) return fit;
   // The light plane starts behind the ray origins: behind all but the rearmost tenth of the bundle's
@@ -152,8 +159,19 @@ Fit fit_spot_light(const std::vector<CausticRay>& rays, const std::vector<uint32
   options.num_threads = 1;
   options.logging_type = ceres::SILENT;
   options.minimizer_progress_to_stdout = false;
+  // Ceres reports a failed evaluation through glog whatever logging_type says: the failure is detected
+  // from the summary below and recorded, and the log stays out of the user's terminal.
+  static std::once_flag quiet;
+  std::call_once(quiet, [] { FLAGS_minloglevel = google::GLOG_FATAL; });
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
+  if (!summary.IsSolutionUsable()) {
+    // The parameters are not trusted: the first guess stands, and the record says so.
+    fit.failed = true;
+    parameters[0] = kappa;
+    parameters[1] = beta;
+    parameters[2] = ell;
+  }
   // Eq. 5 proper is twice Ceres's cost (Ceres minimises half the sum of squares).
   fit.initial_cost = 2.0 * summary.initial_cost;
   fit.final_cost = 2.0 * summary.final_cost;

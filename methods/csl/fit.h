@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "methods/csl/bundles.h"
@@ -29,6 +30,9 @@ struct Fit {
   int iterations = 0;
   int rays_used = 0;
   bool converged = false;
+  // Ceres found no usable solution (a residual or Jacobian that is not finite): the first guess is kept.
+  // Stored in the build files with the rest (a plain value: build format 2).
+  bool failed = false;
 };
 
 // The geometry of one bundle ray against a candidate light plane: p, r and the chord |d - e|.

@@ -32,7 +32,8 @@ nlohmann::json SpotLightSet::to_json() const {
                     {"fit_initial_objective", record.fit.initial_cost},
                     {"fit_objective", record.fit.final_cost},
                     {"fit_iterations", record.fit.iterations},
-                    {"fit_converged", record.fit.converged}});
+                    {"fit_converged", record.fit.converged},
+                    {"fit_failed", record.fit.failed}});
   }
   return {{"direction", {direction.x, direction.y, direction.z}},
           {"spot_lights", lights.size()},

@@ -19,6 +19,42 @@ namespace causticbench {
 
 using namespace lpi;
 
+namespace {
+
+// The paper's orientation stores irradiance across the direction from the object's centre to each
+// sample point. A volume of one cell has its only sample at the centre, where that direction does not
+// exist: every value would be 0 and the image black, silently (found by study_extremes_knobs.yaml).
+std::string one_cell_paper_problem(bool one_cell, const std::string& cells, const std::string& more, const ParamSet& knobs) {
+  if (!one_cell || knobs.text("orientation") != "paper") return "";
+  return fmt::format("{} gives one cell, centred on the object, and orientation 'paper' needs the direction from the "
+                     "object's centre to each sample point, which that cell lacks (its value would be 0): use {} or "
+                     "orientation: vector",
+                     cells, more);
+}
+
+std::string grid_one_cell_problem(const ParamSet& knobs) {
+  return one_cell_paper_problem(knobs.integer("grid_resolution") == 1, "grid_resolution 1", "grid_resolution 2 or more", knobs);
+}
+
+std::string multires_one_cell_problem(const ParamSet& knobs) {
+  return one_cell_paper_problem(knobs.integer("multires_depth") == 0, "multires_depth 0", "multires_depth 1 or more", knobs);
+}
+
+// Spherical harmonics over the light directions are fitted to the geodesic set's samples: (order + 1)^2
+// coefficients need at least as many samples.
+std::string sh_samples_problem(const ParamSet& knobs) {
+  const int64_t order = knobs.integer("sh_order"), subdivision = knobs.integer("light_subdivision");
+  const int64_t power = int64_t{1} << (2 * subdivision);
+  const int64_t samples = knobs.text("light_sample_at") == "faces" ? 20 * power : 10 * power + 2;
+  const int64_t coefficients = (order + 1) * (order + 1);
+  if (coefficients <= samples) return "";
+  return fmt::format("sh_order {} has {} coefficients a cell, more than the {} light samples of light_subdivision {} "
+                     "can determine; raise light_subdivision or lower sh_order",
+                     order, coefficients, samples, subdivision);
+}
+
+}  // namespace
+
 LpiMethod::LpiMethod() = default;
 LpiMethod::~LpiMethod() = default;
 
@@ -147,6 +183,9 @@ const MethodInfo& LpiMethod::static_info() {
         {"non_lambertian_receivers", "E_c is irradiance, whatever the receiver's BRDF"},
     };
     m.frame_dump = true;
+    m.knob_rules = {{{"grid_resolution", "orientation"}, grid_one_cell_problem},
+                    {{"multires_depth", "orientation"}, multires_one_cell_problem},
+                    {{"sh_order", "light_subdivision", "light_sample_at"}, sh_samples_problem}};
     m.quick_knobs = {"photons_per_sample=20000", "light_subdivision=0"};
     m.counters = {counter_quantity("light_samples", "samples", "light directions precomputed (over all objects)"),
                   counter_quantity("photons_emitted", "photons", "photons shot over all light samples and objects"),
@@ -185,20 +224,11 @@ VolumeSettings lpi::volume_settings(const ParamSet& build) {
   }
   settings.precision = parse_precision(build.text("precision"));
   settings.orientation = build.text("orientation") == "paper" ? Orientation::paper : Orientation::vector;
-  // The paper's orientation stores irradiance across the direction from the object's centre to each
-  // sample point. A volume of one cell has its only sample at the centre, where that direction does not
-  // exist: every value would be 0 and the image black, silently (found by study_extremes_knobs.yaml).
-  const bool one_cell = (settings.storage != StorageKind::multires && settings.storage != StorageKind::shells &&
-                         settings.grid_resolution == 1) ||
-                        (settings.storage == StorageKind::multires && settings.multires_depth == 0);
-  if (one_cell && settings.orientation == Orientation::paper) {
-    throw InputError(fmt::format(
-        "lpi: {} gives one cell, centred on the object, and orientation 'paper' needs the direction from the "
-        "object's centre to each sample point, which that cell lacks (its value would be 0): use {} or "
-        "orientation: vector",
-        settings.storage == StorageKind::multires ? "multires_depth 0" : "grid_resolution 1",
-        settings.storage == StorageKind::multires ? "multires_depth 1 or more" : "grid_resolution 2 or more"));
-  }
+  // The knob rules (static_info) refuse these before any work; a caller that bypassed them still stops here.
+  const std::string one_cell = build.has("grid_resolution")  ? grid_one_cell_problem(build)
+                               : build.has("multires_depth") ? multires_one_cell_problem(build)
+                                                             : "";
+  if (!one_cell.empty()) throw InputError("lpi: " + one_cell);
   settings.volume_radius = build.real("volume_radius");
   settings.photons_per_sample = static_cast<uint64_t>(build.integer("photons_per_sample"));
   settings.seed = static_cast<uint64_t>(build.integer("seed"));

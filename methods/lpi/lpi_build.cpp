@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "core/files.h"
 #include "core/errors.h"
 #include "core/scene_description.h"
 #include "methods/lpi/environment.h"
@@ -261,7 +262,7 @@ void LpiMethod::save_build(const std::string& folder) const {
   for (size_t i = 0; i < objects_.size(); ++i) {
     const ObjectVolumes& object = objects_[i];
     const std::string name = fmt::format("object_{}.bin", i);
-    std::ofstream stream(std::filesystem::path(folder) / name, std::ios::binary);
+    write_stream_atomically((std::filesystem::path(folder) / name).string(), [&](std::ostream& stream) {
     const uint64_t header[3] = {object.values.bytes().size(), object.values.scales().size(), object.values.points()};
     stream.write(kValuesFormat, static_cast<std::streamsize>(std::strlen(kValuesFormat) + 1));
     stream.write(reinterpret_cast<const char*>(header), sizeof(header));
@@ -276,7 +277,7 @@ void LpiMethod::save_build(const std::string& folder) const {
       stream.write(reinterpret_cast<const char*>(&words), sizeof(words));
       stream.write(reinterpret_cast<const char*>(structure.data()), static_cast<std::streamsize>(words * sizeof(uint32_t)));
     }
-    if (!stream) throw std::runtime_error(folder + "/" + name + ": write failed");
+    });
     meta.push_back({{"file", name},
                     {"object", object.name},
                     {"shoot_seconds", object.shoot_seconds},
@@ -284,9 +285,7 @@ void LpiMethod::save_build(const std::string& folder) const {
                     {"deposited", object.stats.deposited},
                     {"rays", object.stats.rays}});
   }
-  std::ofstream stream(std::filesystem::path(folder) / "volumes.json");
-  stream << meta.dump(2) << "\n";
-  if (!stream) throw std::runtime_error(folder + "/volumes.json: write failed");
+  write_text_atomically((std::filesystem::path(folder) / "volumes.json").string(), meta.dump(2) + "\n");
 }
 
 void LpiMethod::load_build(const PrepareContext& context, const ParamSet& build, const std::string& folder) {

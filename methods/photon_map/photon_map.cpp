@@ -5,6 +5,7 @@
 
 #include <nanoflann.hpp>
 
+#include "core/files.h"
 #include "core/parallel.h"
 #include "core/scene_description.h"
 
@@ -98,15 +99,16 @@ std::optional<nlohmann::json> PhotonMapMethod::build_dependencies(const PrepareC
 // costs more than tracing the photons, so it is part of the build). The build cache checks both files'
 // checksums before load_build() reads them (nanoflann trusts its input).
 void PhotonMapMethod::save_build(const std::string& folder) const {
-  std::ofstream stream(std::filesystem::path(folder) / "photons.bin", std::ios::binary);
-  const uint64_t header[4] = {photons_.size(), stats_.emitted, stats_.deposited, stats_.rays};
-  stream.write(reinterpret_cast<const char*>(header), sizeof(header));
-  stream.write(reinterpret_cast<const char*>(photons_.data()), static_cast<std::streamsize>(photons_.size() * sizeof(Photon)));
-  if (!stream) throw std::runtime_error(folder + "/photons.bin: write failed");
+  // Through the store's atomic writes: a full disk is a WriteError naming the file and ENOSPC, which stops
+  // the run and leaves it pending (issue 30, defect 6), not a run stored as failed.
+  write_stream_atomically((std::filesystem::path(folder) / "photons.bin").string(), [&](std::ostream& stream) {
+    const uint64_t header[4] = {photons_.size(), stats_.emitted, stats_.deposited, stats_.rays};
+    stream.write(reinterpret_cast<const char*>(header), sizeof(header));
+    stream.write(reinterpret_cast<const char*>(photons_.data()), static_cast<std::streamsize>(photons_.size() * sizeof(Photon)));
+  });
   if (photons_.empty()) return;  // no caustic photon (nothing in view or nothing aimed at): no tree to store
-  std::ofstream tree(std::filesystem::path(folder) / "kdtree.bin", std::ios::binary);
-  index_->tree->saveIndex(tree);
-  if (!tree) throw std::runtime_error(folder + "/kdtree.bin: write failed");
+  write_stream_atomically((std::filesystem::path(folder) / "kdtree.bin").string(),
+                          [&](std::ostream& stream) { index_->tree->saveIndex(stream); });
 }
 
 void PhotonMapMethod::load_build(const PrepareContext& context, const ParamSet& build, const std::string& folder) {

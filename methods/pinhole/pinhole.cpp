@@ -42,8 +42,9 @@ const MethodInfo& PinholeMethod::static_info() {
         ParamSpec::integer("seed", 1, 0, 4e9, "seed of the reflector sampling", frame),
         ParamSpec::choice("backend", "cpu", {"cpu", "vulkan"},
                           "cpu (multithreaded, SIMD) or vulkan (compute shader; lavapipe without a GPU)", build),
-        ParamSpec::real("epsilon", -1.0, -1.0, 1e6,
-                        "added to the squared distance against the singularity; -1: the squared sample spacing A/N", render),
+        ParamSpec::real("epsilon", -1.0, 0.0, 1e6,
+                        "added to the squared distance against the singularity; -1: the squared sample spacing A/N", render)
+            .or_special(-1.0),
         ParamSpec::boolean("attenuation", true, "cosines over squared distance; false reproduces Fig. 5", render),
         ParamSpec::boolean("fresnel", true, "angle-dependent reflectance (conductor or dielectric Fresnel)", render),
     };

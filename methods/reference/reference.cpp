@@ -9,91 +9,45 @@
 #include "core/image_statistics.h"
 #include "core/parallel.h"
 #include "core/progress.h"
-#include "methods/common/photon_grid.h"
+#include "methods/reference/reference_estimators.h"
 
 namespace causticbench {
 
-namespace {
-
-// Per measurement point state of one progressive photon mapping estimator (Hachisuka et al. 2008,
-// Section 4.2): accumulated photon count N, squared radius R^2 and radius-corrected flux tau.
-struct Estimator {
-  uint64_t seed = 0;
-  std::vector<double> count;
-  std::vector<float> radius2;
-  std::vector<glm::dvec3> flux;
-  uint64_t emitted = 0;
-};
-
-struct MeasurementPoints {
-  std::vector<uint32_t> pixel;
-  std::vector<Vec3> position;
-  std::vector<Vec3> normal;
-};
-
-float median_radius(const std::vector<float>& radius2) {
-  std::vector<float> copy = radius2;
-  std::nth_element(copy.begin(), copy.begin() + copy.size() / 2, copy.end());
-  return std::sqrt(copy[copy.size() / 2]);
-}
-
-// One PPM pass: every measurement point collects the new photons within its radius, then shrinks its
-// radius keeping the fraction alpha of them (the radius-reduction step of the paper).
-void gather(const MeasurementPoints& points, const std::vector<Photon>& photons, double alpha, Estimator& estimator) {
-  if (photons.empty()) return;
-  PhotonGrid grid(photons, std::max(1e-7f, median_radius(estimator.radius2)));
-  parallel_blocks(points.position.size(), 512, [&](size_t begin, size_t end, size_t) {
-    for (size_t i = begin; i < end; ++i) {
-      const Vec3 point = points.position[i], normal = points.normal[i];
-      const float radius2 = estimator.radius2[i];
-      uint64_t found = 0;
-      glm::dvec3 flux(0.0);
-      grid.for_each_near(point, std::sqrt(radius2), [&](const Photon& photon) {
-        Vec3 offset = photon.position - point;
-        // Same surface side as the camera sees it; the sphere test does the rest.
-        if (glm::dot(offset, offset) >= radius2 || glm::dot(photon.normal, normal) < 0.7f) return;
-        ++found;
-        flux += glm::dvec3(photon.power);
-      });
-      if (found == 0) continue;
-      double previous = estimator.count[i];
-      double kept = previous + alpha * static_cast<double>(found);
-      double ratio = kept / (previous + static_cast<double>(found));
-      estimator.count[i] = kept;
-      estimator.radius2[i] = static_cast<float>(radius2 * ratio);
-      estimator.flux[i] = (estimator.flux[i] + flux) * ratio;
-    }
-  });
-}
-
-void estimate(const MeasurementPoints& points, const Estimator& estimator, Image& image) {
-  double emitted = static_cast<double>(std::max<uint64_t>(1, estimator.emitted));
-  for (size_t i = 0; i < points.pixel.size(); ++i) {
-    double area = kPiDouble * estimator.radius2[i];
-    image.set_rgb(points.pixel[i], Color(estimator.flux[i] / (area * emitted)));
-  }
-}
-
-}  // namespace
+const char* const kReferenceErrorDefinition =
+    "estimated relMSE of the result against the pixel's true footprint-average E_c (docs/metrics.md): per pixel the "
+    "variance (footprint: from the second moment of the photons' contributions; ppm: (A - B)^2 / 4 of two independent "
+    "halves) plus, for ppm, the squared bias beyond both variances against a footprint tally of the same photons, "
+    "divided by value^2 + (0.1 mean)^2 as relMSE does; error_estimate = variance_estimate + bias_estimate";
 
 const MethodInfo& ReferenceMethod::static_info() {
   static const MethodInfo info = [] {
     MethodInfo m;
     m.name = "reference";
     m.paper = "T. Hachisuka, S. Ogaki, H. W. Jensen, \"Progressive Photon Mapping\", ACM TOG 27(5), 2008";
-    m.summary = "Converged caustic irradiance by progressive photon mapping over the G-buffer points; stops on "
-                "its own noise floor, measured from two independent halves.";
+    m.summary = "Converged caustic irradiance per pixel, by crediting every photon the camera sees to its pixel's "
+                "footprint (or by progressive photon mapping); stops on its own estimate of its total error, "
+                "variance and bias, with the per-pixel map of it.";
     const ParamPhase render = ParamPhase::render;
     m.params = {
-        ParamSpec::integer("photons_per_pass", 4000000, 1000, 1e9, "photons emitted per pass, split between the two halves", render),
-        ParamSpec::real("target_noise_floor", 1e-3, 0.0, 1.0,
-                        "stop when the estimated relMSE of the result (from the two halves) falls to this; 0: never", render),
+        ParamSpec::choice("estimator", "footprint", {"footprint", "ppm"},
+                          "footprint: each photon the camera sees is credited to the pixel whose footprint holds it "
+                          "(unbiased for the pixel's average E_c; docs/metrics.md); ppm: progressive photon mapping at "
+                          "the pixel centres (biased near folds and foci by its radius)",
+                          render),
+        ParamSpec::integer("photons_per_pass", 4000000, 1000, 1e9, "photons emitted per pass (ppm: split between the two halves)",
+                           render),
+        ParamSpec::real("target_error", 1e-3, 0.0, 1.0,
+                        "stop when the estimated total error of the result (relMSE against the pixel's true E_c: "
+                        "variance plus estimated squared bias) falls to this; 0: never",
+                        render),
         ParamSpec::real("max_seconds", 600.0, 0.0, 1e7, "stop after this much wall time (0: no limit)", render),
         ParamSpec::integer("max_passes", 100000, 1, 1e9, "stop after this many passes", render),
-        ParamSpec::integer("min_passes", 4, 1, 1e6, "never stop on the noise floor before this many passes", render),
-        ParamSpec::real("alpha", 2.0 / 3.0, 0.01, 1.0, "fraction of new photons kept per pass (radius reduction)", render),
+        ParamSpec::integer("min_passes", 4, 1, 1e6, "never stop on the error target before this many passes", render),
+        ParamSpec::real("alpha", 2.0 / 3.0, 0.01, 1.0, "fraction of new photons kept per pass (radius reduction)", render)
+            .only_when("estimator", {"ppm"}),
         ParamSpec::real("initial_radius_pixels", 1.0, 0.05, 1000.0,
-                        "initial gather radius in pixel footprints at each point", render),
+                        "initial gather radius in pixel footprints at each point", render)
+            .only_when("estimator", {"ppm"}),
         ParamSpec::integer("max_bounces", 32, 1, 1000, "specular bounces before a photon path is cut", render),
         ParamSpec::integer("seed", 1, 0, 4e9, "seed of every random choice", render),
     };
@@ -102,11 +56,13 @@ const MethodInfo& ReferenceMethod::static_info() {
     c.directional_light = c.point_light = c.environment_light = true;
     c.moving_light = c.moving_objects = c.occlusion = c.non_lambertian_receivers = true;
     c.notes = {{"non_lambertian_receivers", "E_c is irradiance, independent of the receiver's BRDF"}};
-    m.quick_knobs = {"photons_per_pass=20000", "max_passes=2", "target_noise_floor=0", "max_seconds=0"};
-    // The per-pixel hit points and their progressive statistics (measured: docs/results-format.md, "Memory").
-    m.working_bytes_per_pixel = 24.0;
+    m.quick_knobs = {"photons_per_pass=20000", "max_passes=2", "target_error=0", "max_seconds=0"};
+    // Per receiver pixel its point, the tally's two moments and (ppm) both halves' statistics, as
+    // memory_bytes() counts them: 81 bytes with the footprint tally, 153 with ppm; the larger is declared.
+    m.working_bytes_per_pixel = 153.0;
     m.counters = {counter_quantity("photons_emitted", "photons", "photons emitted over all passes"),
-                  counter_quantity("photons_deposited", "photons", "photon hits gathered on receivers over all passes"),
+                  counter_quantity("photons_deposited", "photons", "photon hits on receivers over all passes"),
+                  counter_quantity("photons_credited", "photons", "photon hits the camera sees on receiver pixels (footprint tally)"),
                   counter_quantity("passes", "passes", "progressive passes until the stop rule (stop_reason)")};
     return m;
   }();
@@ -117,93 +73,107 @@ void ReferenceMethod::check_scene(const Scene& scene) const {}
 
 void ReferenceMethod::prepare(const PrepareContext& context, const ParamSet& build) {}
 
-void ReferenceMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) { tracer_ = &frame.tracer; }
+void ReferenceMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
+  tracer_ = &frame.tracer;
+  camera_ = &frame.frame.camera;
+}
 
 Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  const uint64_t photons_per_half = std::max<int64_t>(1, params.integer("photons_per_pass") / 2);
-  const double target = params.real("target_noise_floor");
+  const bool progressive = params.text("estimator") == "ppm";
+  const uint64_t photons_per_pass = static_cast<uint64_t>(params.integer("photons_per_pass"));
+  // ppm runs two independent halves (seeds 2s and 2s+1); footprint one stream of seed 2s.
+  const uint64_t photons_per_stream = progressive ? std::max<uint64_t>(1, photons_per_pass / 2) : photons_per_pass;
+  const int streams = progressive ? 2 : 1;
+  const double target = params.real("target_error");
   const double max_seconds = params.real("max_seconds");
   const int64_t max_passes = params.integer("max_passes"), min_passes = params.integer("min_passes");
-  const double alpha = params.real("alpha");
   const uint64_t seed = static_cast<uint64_t>(params.integer("seed"));
+  const int max_bounces = static_cast<int>(params.integer("max_bounces"));
 
-  MeasurementPoints points;
-  for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
-    if (!gbuffer.receiver[pixel]) continue;
-    points.pixel.push_back(static_cast<uint32_t>(pixel));
-    points.position.push_back(gbuffer.position[pixel]);
-    points.normal.push_back(gbuffer.normal[pixel]);
-  }
-  Estimator halves[2];
-  for (int h = 0; h < 2; ++h) {
-    halves[h].seed = seed * 2 + h;
-    halves[h].count.assign(points.pixel.size(), 0.0);
-    halves[h].flux.assign(points.pixel.size(), glm::dvec3(0.0));
-    halves[h].radius2.resize(points.pixel.size());
-    for (size_t i = 0; i < points.pixel.size(); ++i) {
-      float radius = static_cast<float>(params.real("initial_radius_pixels")) * gbuffer.footprint[points.pixel[i]];
-      halves[h].radius2[i] = radius * radius;
+  const MeasurementPoints points(gbuffer);
+  FootprintTally tally(points.size());
+  std::vector<ProgressiveEstimator> halves;
+  if (progressive)
+    for (int h = 0; h < 2; ++h) halves.emplace_back(points, gbuffer, params.real("initial_radius_pixels"));
+  memory_bytes_ = points.size() * (sizeof(uint32_t) + 2 * sizeof(Vec3) + 2 * sizeof(glm::dvec3) +
+                                   (progressive ? 2 * (sizeof(double) + sizeof(float) + sizeof(glm::dvec3)) : 0)) +
+                  gbuffer.pixel_count() * (sizeof(int32_t) + sizeof(uint8_t));
+  std::vector<CausticPhotonTracer> photon_tracers;
+  for (int h = 0; h < streams; ++h) photon_tracers.emplace_back(*tracer_, PhotonTracerSettings{seed * 2 + h, max_bounces});
+
+  ErrorImage error;
+  auto estimate_error = [&] {
+    error.value.resize(points.size());
+    error.squared_error.resize(points.size());
+    error.variance.resize(points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+      const glm::dvec3 tally_value = tally.value(i), tally_variance = tally.variance(i);
+      if (!progressive) {
+        error.value[i] = tally_value;
+        error.variance[i] = error.squared_error[i] = tally_variance;
+        continue;
+      }
+      const glm::dvec3 a = halves[0].value(i), b = halves[1].value(i), c = 0.5 * (a + b);
+      // For independent halves, (A - C)^2 = (A - B)^2 / 4 has the expectation of C's variance. The
+      // bias against the pixel's footprint average: what the difference to the unbiased tally of the
+      // same photons holds beyond both estimates' variances.
+      const glm::dvec3 variance = 0.25 * (a - b) * (a - b);
+      const glm::dvec3 bias2 = glm::max((c - tally_value) * (c - tally_value) - variance - tally_variance, glm::dvec3(0.0));
+      error.value[i] = c;
+      error.variance[i] = variance;
+      error.squared_error[i] = variance + bias2;
     }
-  }
-  memory_bytes_ = points.pixel.size() * (sizeof(uint32_t) + 2 * sizeof(Vec3) +
-                                         2 * (sizeof(double) + sizeof(float) + sizeof(glm::dvec3)));
+  };
 
-  Image images[2] = {Image(gbuffer.width, gbuffer.height, 3), Image(gbuffer.width, gbuffer.height, 3)};
-  Image combined(gbuffer.width, gbuffer.height, 3);
   PhotonStats stats;
   std::vector<Photon> photons;
   nlohmann::json history = nlohmann::json::array();
   Progress progress("reference", 1.0);
-  double trace_seconds = 0.0;
+  double trace_seconds = 0.0, credit_seconds = 0.0;
+  uint64_t credited = 0;
   std::string stop_reason = "max_passes";
   int64_t pass = 0;
-  noise_floor_ = 0.0;
-  bool has_points = !points.pixel.empty();
-  const int max_bounces = static_cast<int>(params.integer("max_bounces"));
-  const CausticPhotonTracer photon_tracers[2] = {
-      CausticPhotonTracer(*tracer_, PhotonTracerSettings{halves[0].seed, max_bounces}),
-      CausticPhotonTracer(*tracer_, PhotonTracerSettings{halves[1].seed, max_bounces})};
+  error_estimate_ = variance_estimate_ = 0.0;
   while (true) {
-    for (int h = 0; h < 2; ++h) {
+    for (int h = 0; h < streams; ++h) {
       photons.clear();
       auto trace_start = std::chrono::steady_clock::now();
-      photon_tracers[h].trace(static_cast<uint64_t>(pass) * photons_per_half, photons_per_half, photons, stats);
-      trace_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - trace_start).count();
-      halves[h].emitted += photons_per_half;
-      if (has_points) gather(points, photons, alpha, halves[h]);
+      photon_tracers[h].trace(static_cast<uint64_t>(pass) * photons_per_stream, photons_per_stream, photons, stats);
+      auto credit_start = std::chrono::steady_clock::now();
+      trace_seconds += std::chrono::duration<double>(credit_start - trace_start).count();
+      tally.add_emitted(photons_per_stream);
+      if (points.size() > 0) credited += tally.credit(points, *camera_, *tracer_, photons);
+      credit_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - credit_start).count();
+      if (progressive) {
+        halves[h].add_emitted(photons_per_stream);
+        halves[h].gather(points, photons, params.real("alpha"));
+      }
     }
     ++pass;
-    for (int h = 0; h < 2; ++h) estimate(points, halves[h], images[h]);
-    for (size_t i = 0; i < combined.values().size(); ++i) {
-      combined.values()[i] = 0.5f * (images[0].values()[i] + images[1].values()[i]);
-    }
-    // For independent halves A and B with variance s^2 each, the average C has variance s^2 / 2, and
-    // (A - C)^2 = (A - B)^2 / 4 has exactly that expectation: relMSE(A, C) estimates C's relMSE.
-    noise_floor_ = relative_mse(images[0], combined, gbuffer.receiver);
+    estimate_error();
+    error_estimate_ = estimated_relative_mse(error.value, error.squared_error);
+    variance_estimate_ = estimated_relative_mse(error.value, error.variance);
     double seconds = elapsed();
-    history.push_back({{"pass", pass}, {"photons", 2 * photons_per_half * pass}, {"seconds", seconds},
-                       {"noise_floor", noise_floor_}});
+    history.push_back({{"pass", pass}, {"photons", streams * photons_per_stream * pass}, {"seconds", seconds},
+                       {"error_estimate", error_estimate_}, {"variance_estimate", variance_estimate_}});
     double fraction = 0.0;
-    if (target > 0.0 && noise_floor_ > target && pass >= 4) {
-      // The floor falls as a power of the time spent: fit its exponent over the second half of the
+    if (target > 0.0 && error_estimate_ > target && pass >= 4) {
+      // The error falls as a power of the time spent: fit its exponent over the second half of the
       // history and extrapolate the time at which it reaches the target.
       const auto& earlier = history[static_cast<size_t>(pass / 2)];
-      double t0 = earlier["seconds"].get<double>(), f0 = earlier["noise_floor"].get<double>();
-      double exponent = f0 > 0.0 && seconds > t0 ? std::log(f0 / noise_floor_) / std::log(seconds / t0) : 0.0;
-      if (exponent > 0.0) {
-        double needed = seconds * std::pow(noise_floor_ / target, 1.0 / exponent);
-        fraction = seconds / needed;
-      }
-    } else if (target > 0.0 && noise_floor_ <= target) {
+      double t0 = earlier["seconds"].get<double>(), f0 = earlier["error_estimate"].get<double>();
+      double exponent = f0 > 0.0 && seconds > t0 ? std::log(f0 / error_estimate_) / std::log(seconds / t0) : 0.0;
+      if (exponent > 0.0) fraction = seconds / (seconds * std::pow(error_estimate_ / target, 1.0 / exponent));
+    } else if (target > 0.0 && error_estimate_ <= target) {
       fraction = 1.0;
     }
     if (max_seconds > 0.0) fraction = std::max(fraction, seconds / max_seconds);
     fraction = std::max(fraction, static_cast<double>(pass) / static_cast<double>(max_passes));
-    progress.update_fraction(fraction, fmt::format("pass {} noise floor {:.3g} (target {:.3g})", pass, noise_floor_, target));
-    if (pass >= min_passes && target > 0.0 && noise_floor_ <= target) {
-      stop_reason = "target_noise_floor";
+    progress.update_fraction(fraction, fmt::format("pass {} error {:.3g} (target {:.3g})", pass, error_estimate_, target));
+    if (pass >= min_passes && target > 0.0 && error_estimate_ <= target) {
+      stop_reason = "target_error";
       break;
     }
     if (max_seconds > 0.0 && seconds >= max_seconds) {
@@ -212,29 +182,41 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
     }
     if (pass >= max_passes) break;
   }
-  progress.finish(fmt::format("{} passes, noise floor {:.3g}, stopped on {}", pass, noise_floor_, stop_reason));
+  progress.finish(fmt::format("{} passes, estimated error {:.3g}, stopped on {}", pass, error_estimate_, stop_reason));
+  Image result(gbuffer.width, gbuffer.height, 3);
+  write_points(points, error.value, false, result);
+  error_map_ = Image(gbuffer.width, gbuffer.height, 3);
+  write_points(points, error.squared_error, true, error_map_);
   double seconds = elapsed();
   photons_emitted_ = stats.emitted;
   photons_deposited_ = stats.deposited;
+  photons_credited_ = credited;
   passes_ = static_cast<uint64_t>(pass);
-  record_ = {{"passes", pass},
+  record_ = {{"estimator", params.text("estimator")},
+             {"passes", pass},
              {"photons_emitted", stats.emitted},
              {"photons_deposited", stats.deposited},
+             {"photons_credited", credited},
              {"rays_traced", stats.rays},
              {"seconds", seconds},
              {"photon_tracing_seconds", trace_seconds},
+             {"crediting_seconds", credit_seconds},
              {"photons_per_second", trace_seconds > 0.0 ? stats.emitted / trace_seconds : 0.0},
-             {"noise_floor", noise_floor_},
-             {"noise_floor_definition", "estimated relMSE of the result (A+B)/2 of two independent halves: relMSE(A, (A+B)/2)"},
+             {"credited_per_second", credit_seconds > 0.0 ? credited / credit_seconds : 0.0},
+             {"error_estimate", error_estimate_},
+             {"variance_estimate", variance_estimate_},
+             {"bias_estimate", error_estimate_ - variance_estimate_},
+             {"error_definition", kReferenceErrorDefinition},
              {"stop_reason", stop_reason},
-             {"measurement_points", points.pixel.size()},
+             {"measurement_points", points.size()},
              {"history", history}};
-  return combined;
+  return result;
 }
 
 Counters ReferenceMethod::counters() const {
   return {{"photons_emitted", static_cast<double>(photons_emitted_)},
           {"photons_deposited", static_cast<double>(photons_deposited_)},
+          {"photons_credited", static_cast<double>(photons_credited_)},
           {"passes", static_cast<double>(passes_)}};
 }
 

@@ -23,7 +23,7 @@ namespace causticbench::store_harness {
 // of the store (reference, environment, build cache, run) in about 20 steps.
 inline const char* const kOneRun = R"(name: store
 scene: scene.yaml
-reference: {photons_per_pass: 20000, max_passes: 2, target_noise_floor: 0, max_seconds: 0}
+reference: {photons_per_pass: 20000, max_passes: 2, target_error: 0, max_seconds: 0}
 repetitions: 1
 methods:
   - method: photon_map
@@ -34,7 +34,7 @@ methods:
 // Four runs in two build groups.
 inline const char* const kFourRuns = R"(name: store
 scene: scene.yaml
-reference: {photons_per_pass: 20000, max_passes: 2, target_noise_floor: 0, max_seconds: 0}
+reference: {photons_per_pass: 20000, max_passes: 2, target_error: 0, max_seconds: 0}
 repetitions: 1
 methods:
   - method: photon_map
@@ -45,7 +45,7 @@ methods:
 )";
 
 // A reference that stops on its time cap after its first pass: two computations of it differ.
-inline const std::string kTimeCapped = "reference: {photons_per_pass: 20000, max_passes: 100000, target_noise_floor: 0, max_seconds: 0.000001}";
+inline const std::string kTimeCapped = "reference: {photons_per_pass: 20000, max_passes: 100000, target_error: 0, max_seconds: 0.000001}";
 
 class StoreFolder : public causticbench::testing::TemporaryFolder {
  public:
