@@ -17,10 +17,13 @@ double masked_mean(const Image& image, const std::vector<uint8_t>& mask) {
   return count ? masked_sum(image, mask) / static_cast<double>(count) : 0.0;
 }
 
-double relative_mse(const Image& test, const Image& reference, const std::vector<uint8_t>& mask) {
-  double mean = masked_mean(reference, mask);
+double relative_mse_epsilon(double mean) {
   double epsilon = (0.1 * mean) * (0.1 * mean);
-  if (epsilon <= 0.0) epsilon = 1e-20;
+  return epsilon > 0.0 ? epsilon : 1e-20;
+}
+
+double relative_mse(const Image& test, const Image& reference, const std::vector<uint8_t>& mask) {
+  const double epsilon = relative_mse_epsilon(masked_mean(reference, mask));
   double sum = 0.0;
   size_t count = 0;
   for (size_t pixel = 0; pixel < test.pixel_count(); ++pixel) {

@@ -13,6 +13,9 @@ namespace causticbench {
 // epsilon = (0.1 * mean of b over the mask)^2: pbrt's relMSE with its epsilon made relative, so that
 // the value does not depend on the scene's units and dark pixels do not dominate.
 double relative_mse(const Image& test, const Image& reference, const std::vector<uint8_t>& mask);
+// That epsilon for a reference whose masked mean is `mean` (the one definition, also used where an
+// expected squared error stands in for (a - b)^2: the reference's own error estimate).
+double relative_mse_epsilon(double mean);
 double masked_mean(const Image& image, const std::vector<uint8_t>& mask);
 // Sum over masked pixels of the channel mean (for energy comparisons).
 double masked_sum(const Image& image, const std::vector<uint8_t>& mask);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/image_statistics.h"
 #include "core/parallel.h"
 #include "methods/common/photon_grid.h"
 
@@ -118,8 +119,7 @@ double estimated_relative_mse(const std::vector<glm::dvec3>& value, const std::v
   double mean = 0.0;
   for (const glm::dvec3& v : value) mean += (v.x + v.y + v.z) / 3.0;
   mean /= static_cast<double>(value.size());
-  double epsilon = (0.1 * mean) * (0.1 * mean);
-  if (epsilon <= 0.0) epsilon = 1e-20;
+  const double epsilon = relative_mse_epsilon(mean);
   double sum = 0.0;
   for (size_t i = 0; i < value.size(); ++i)
     for (int c = 0; c < 3; ++c) sum += squared_error[i][c] / (value[i][c] * value[i][c] + epsilon);
