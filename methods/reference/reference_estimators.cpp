@@ -10,7 +10,7 @@
 namespace causticbench {
 
 MeasurementPoints::MeasurementPoints(const GBuffer& gbuffer)
-    : width(gbuffer.width), height(gbuffer.height), point_of_pixel(gbuffer.pixel_count(), -1), mask(gbuffer.receiver) {
+    : width(gbuffer.width), height(gbuffer.height), point_of_pixel(gbuffer.pixel_count(), -1) {
   for (size_t i = 0; i < gbuffer.pixel_count(); ++i) {
     if (!gbuffer.receiver[i]) continue;
     point_of_pixel[i] = static_cast<int32_t>(pixel.size());

@@ -27,7 +27,6 @@ struct MeasurementPoints {
   std::vector<Vec3> position;
   std::vector<Vec3> normal;
   std::vector<int32_t> point_of_pixel;  // index into the vectors above, -1 where the pixel is no receiver
-  std::vector<uint8_t> mask;            // the G-buffer's receiver mask
   explicit MeasurementPoints(const GBuffer& gbuffer);
   size_t size() const { return pixel.size(); }
 };
