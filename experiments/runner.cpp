@@ -5,6 +5,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -250,19 +251,26 @@ class RunExecutor {
   const std::vector<FramePresence> scored_;  // no frame with an empty reference
 };
 
-// Each pending run's frame, and the reference of its variant, must fit in this machine's memory: a
-// variant at 16384x16384 is refused with the estimate before any reference or run starts.
+// Each pending run, and the reference of its variant, must fit in this machine's memory: a variant at
+// 16384x16384, or lpi with multires_depth: 9, is refused with the estimate (naming the resolution or
+// the knob) before any reference or run starts. Runs that share their knobs on a variant share a check.
 void check_memory(const Experiment& experiment, const std::vector<PendingRun>& pending) {
-  std::set<std::pair<size_t, std::string>> checked;  // (variant, method)
+  std::set<std::tuple<size_t, std::string, std::string>> checked;  // (variant, method, knobs)
+  std::map<size_t, std::unique_ptr<RestPose>> rests;                // a variant's rest pose, built once
+  auto check = [&](size_t index, const std::string& method, const ParamSet& knobs) {
+    if (!checked.insert({index, method, knobs.to_json().dump()}).second) return;
+    const SceneVariant& variant = experiment.variants.at(index);
+    std::unique_ptr<RestPose>& rest = rests[index];
+    if (!rest) rest = std::make_unique<RestPose>(variant.scene, experiment.frames);
+    const Camera& camera = variant.scene.camera;
+    const std::unique_ptr<CausticMethod> instance = find_method(method).create();
+    check_memory_fits(estimate_run_memory(camera.width, camera.height, *instance, rest->context(), knobs),
+                      fmt::format("{}: variant {} with {} at {}x{}", experiment.source, variant.name, method,
+                                  camera.width, camera.height));
+  };
   for (const PendingRun& entry : pending) {
-    for (const std::string& method : {std::string("reference"), entry.run->method}) {
-      if (!checked.insert({entry.run->variant, method}).second) continue;
-      const SceneVariant& variant = experiment.variants.at(entry.run->variant);
-      const Camera& camera = variant.scene.camera;
-      check_memory_fits(estimate_frame_memory(camera.width, camera.height, find_method(method).info()),
-                        fmt::format("{}: variant {} with {} at {}x{}", experiment.source, variant.name, method,
-                                    camera.width, camera.height));
-    }
+    check(entry.run->variant, "reference", experiment.reference_params);
+    check(entry.run->variant, entry.run->method, entry.run->params);
   }
 }
 
@@ -289,6 +297,8 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& given_
   remove_stale_staging(runs_folder);
   RunSelection selection = select_runs(experiment, options, paths);
   summary.selected = selection.selected;
+  // What this machine cannot hold is refused before anything else, --dry-run included.
+  check_memory(experiment, selection.pending);
   if (options.dry_run) {
     summary.stored = selection.stored;
     return summary;
@@ -296,7 +306,6 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& given_
 
   // Every reference is computed (or loaded) and checked before any run starts, and before anything is
   // written into the experiment's folder: an empty reference stops here with nothing of it changed.
-  check_memory(experiment, selection.pending);
   ReferenceCheck references = check_references(experiment, specs(selection.pending), paths);
   std::vector<size_t> checked_variants;
   for (const PendingRun& entry : selection.pending) checked_variants.push_back(entry.run->variant);

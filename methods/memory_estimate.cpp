@@ -17,6 +17,20 @@ MemoryEstimate estimate_frame_memory(int width, int height, const MethodInfo& me
   estimate.breakdown = fmt::format("{}x{} = {:.0f} pixels x ({:.0f} bytes of every frame + {:.0f} of {}) + {:.0f} MiB",
                                    width, height, pixels, kFrameBytesPerPixel, method.working_bytes_per_pixel,
                                    method.name, kProcessBaseBytes / 1048576.0);
+  estimate.pixel_bytes = estimate.bytes - kProcessBaseBytes;
+  estimate.method = method.name;
+  return estimate;
+}
+
+MemoryEstimate estimate_run_memory(int width, int height, const CausticMethod& method, const PrepareContext& context,
+                                   const ParamSet& knobs) {
+  MemoryEstimate estimate = estimate_frame_memory(width, height, method.info());
+  estimate.terms = method.knob_memory(context, knobs);
+  for (const MemoryTerm& term : estimate.terms) {
+    estimate.bytes += term.bytes;
+    estimate.breakdown += fmt::format(" + {:.0f} MiB for {} ({})", term.bytes / 1048576.0, join(term.knobs, " and "),
+                                      term.formula);
+  }
   return estimate;
 }
 
@@ -61,6 +75,19 @@ void check_memory_fits(const MemoryEstimate& estimate, const std::string& what) 
   const double available = available_memory_bytes();
   if (available < 0.0 || estimate.bytes <= available) return;  // unknown: nothing to refuse on
   constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+  // The largest part says what to lower: a knob of the method, or the resolution.
+  const MemoryTerm* largest = nullptr;
+  for (const MemoryTerm& term : estimate.terms)
+    if (!largest || term.bytes > largest->bytes) largest = &term;
+  if (largest && largest->bytes >= estimate.pixel_bytes) {
+    std::string quoted;
+    for (size_t k = 0; k < largest->knobs.size(); ++k)
+      quoted += (k == 0 ? "" : k + 1 == largest->knobs.size() ? " and " : ", ") + ("'" + largest->knobs[k] + "'");
+    throw InputError(fmt::format("{}: knob{} {} of {}: expected a setting whose run fits in the available memory ({:.1f} "
+                                 "GiB), found an estimate of {:.1f} GiB, {:.1f} GiB of it for {}; lower {}",
+                                 what, largest->knobs.size() == 1 ? "" : "s", quoted, estimate.method, available / kGiB, estimate.bytes / kGiB,
+                                 largest->bytes / kGiB, largest->formula, join(largest->knobs, " or ")));
+  }
   throw InputError(fmt::format("{}: expected a frame that fits in the available memory ({:.1f} GiB), found an estimate "
                                "of {:.1f} GiB ({}); lower the resolution",
                                what, available / kGiB, estimate.bytes / kGiB, estimate.breakdown));

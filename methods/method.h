@@ -89,6 +89,16 @@ std::optional<BrokenKnobRule> broken_knob_rule(const MethodInfo& info, const Par
 
 using Counters = std::vector<std::pair<std::string, double>>;
 
+// A part of a method's peak memory that grows with its knobs (CausticMethod::knob_memory), for the
+// check before any work starts (methods/memory_estimate.h): an upper bound, in bytes, on what it adds
+// to the peak resident size, the knobs it grows with, and how it was counted. Each method's terms are
+// checked against measured peaks by tests/test_memory_cost.cpp.
+struct MemoryTerm {
+  std::vector<std::string> knobs;  // the knobs to lower to shrink it ("grid_resolution", "light_subdivision")
+  double bytes = 0.0;
+  std::string formula;  // "64^3 cells x 3 channels x (4 x 1 light sample + 44) bytes"
+};
+
 // What prepare() works from: the scene, its rest pose (frame 0) with a ray tracer over it (to trace
 // photons or rays for any light direction, with CausticPhotonTracer's explicit lights), and the frame
 // indices that will be rendered, so that a method can precompute only what those frames need (a light
@@ -121,6 +131,11 @@ class CausticMethod {
   // Bytes of the data the method keeps between frames.
   virtual size_t memory_bytes() const = 0;
   virtual Counters counters() const = 0;
+  // What this method's knobs (every phase, resolved) will cost in memory on this scene, beyond the
+  // frame's pixels (MethodInfo::working_bytes_per_pixel): upper bounds on the peak, each naming its
+  // knobs. Called before any work starts, so it must be cheap: count, do not allocate. Empty (the
+  // default): nothing a knob can make large.
+  virtual std::vector<MemoryTerm> knob_memory(const PrepareContext& context, const ParamSet& knobs) const { return {}; }
   // Method-specific facts for the run record (e.g. the reference's estimated error).
   virtual nlohmann::json record() const { return nlohmann::json::object(); }
   // GPU backends: the kernel time of the last render() from timestamp queries, in milliseconds.

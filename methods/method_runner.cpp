@@ -10,6 +10,7 @@
 #include "core/build_info.h"
 #include "core/direct_lighting.h"
 #include "core/parallel.h"
+#include "methods/lifecycle.h"
 #include "methods/memory_estimate.h"
 
 namespace causticbench {
@@ -35,10 +36,12 @@ CheckedRequest check_request(const RenderRequest& request) {
     throw InputError(fmt::format("--dump-frame: expected a method that can dump its frame ({}), found '{}'",
                                  join(able, ", "), info.name));
   }
-  checked.method->create()->check_scene(*request.scene);
-  if (!request.dump_folder.empty()) checked.method->create()->check_frame_dump(checked.params);
+  std::unique_ptr<CausticMethod> method = checked.method->create();
+  method->check_scene(*request.scene);
+  if (!request.dump_folder.empty()) method->check_frame_dump(checked.params);
   const Camera& camera = request.scene->camera;
-  check_memory_fits(estimate_frame_memory(camera.width, camera.height, info),
+  const RestPose rest(*request.scene, {request.frame});
+  check_memory_fits(estimate_run_memory(camera.width, camera.height, *method, rest.context(), checked.params),
                     fmt::format("{} with {} at {}x{}", request.scene->source, info.name, camera.width, camera.height));
   return checked;
 }

@@ -38,6 +38,7 @@ class CslMethod : public CausticMethod {
                   const std::string& folder) const override;
   // The build cache (methods/csl/csl_build.cpp): every object's static or dynamic sets.
   std::optional<nlohmann::json> build_dependencies(const PrepareContext& context, const ParamSet& build) const override;
+  std::vector<MemoryTerm> knob_memory(const PrepareContext& context, const ParamSet& knobs) const override;
   void save_build(const std::string& folder) const override;
   void load_build(const PrepareContext& context, const ParamSet& build, const std::string& folder) override;
 

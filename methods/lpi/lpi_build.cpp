@@ -1,6 +1,7 @@
 // lpi's build: which light samples each object needs (plan), and the build cache's view of them:
 // what determines them (build_dependencies) and their files (save_build, load_build).
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <cstring>
 #include <fstream>
@@ -254,6 +255,59 @@ std::optional<nlohmann::json> LpiMethod::build_dependencies(const PrepareContext
   // backend: cpu leaves the keys of builds stored before the knob as they were; every other build knob,
   // vulkan included, names a build of its own (the suite's rule: tests/test_conformance.cpp).
   return nlohmann::json{{"objects", objects}, {"build", build.key_json(static_info().params)}};
+}
+
+// The build's peak (precompute.cpp, shoot_light_samples), per specular object, V = points x channels
+// deposited, S light samples: every sample's values as floats (4 V S), eight chunk sums of floats and
+// one of doubles (40 V), then the stored copy at `precision` (p V S) beside the floats. multires: the
+// tree's collapse holds per leaf a vector of S x channels doubles and the leaves' floats, bounded by
+// the worst case of every finest cell a leaf; sh: the fitted coefficients as floats beside the
+// samples. vulkan: the device's copy of the stored values (host memory under lavapipe). Objects are
+// summed although their transients do not overlap: an upper bound, within about 1.3x for one object.
+std::vector<MemoryTerm> LpiMethod::knob_memory(const PrepareContext& context, const ParamSet& knobs) const {
+  const VolumeSettings settings = volume_settings(knobs);
+  std::vector<MemoryTerm> terms;
+  for (int object : context.rest.specular_objects()) {
+    const Scene alone = build_space_scene(context.scene, object);
+    const SceneFrame frame(alone, 0.0);
+    const LightSampleSet set = choose_samples(context.scene, object, frame.bounds[0], context.frames, knobs);
+    const double samples = static_cast<double>(set.directions.size());
+    const double channels = channel_count(settings.orientation);
+    const double precision = static_cast<double>(precision_bytes(settings.precision));
+    MemoryTerm term;
+    double points = 0.0, stored_blocks = samples, extra = 0.0;
+    std::string volume;
+    if (settings.storage == StorageKind::grid || settings.storage == StorageKind::sh) {
+      points = std::pow(static_cast<double>(settings.grid_resolution), 3.0);
+      volume = fmt::format("{}^3 cells", settings.grid_resolution);
+      term.knobs = {"grid_resolution"};
+    } else if (settings.storage == StorageKind::shells) {
+      points = settings.shell_count * (10.0 * std::pow(4.0, settings.shell_subdivision) + 2.0);
+      volume = fmt::format("{} shells x {} vertices", settings.shell_count,
+                           10.0 * std::pow(4.0, settings.shell_subdivision) + 2.0);
+      term.knobs = {"shell_count", "shell_subdivision"};
+    } else {
+      points = std::pow(8.0, settings.multires_depth);
+      volume = fmt::format("{}^3 finest cells", 1 << settings.multires_depth);
+      term.knobs = {"multires_depth"};
+      extra = points * (samples * channels * 8.0 + 48.0 + samples * channels * 4.0);
+    }
+    if (settings.storage == StorageKind::sh) {
+      stored_blocks = coefficient_count(settings.sh_order + 1);
+      extra = points * channels * 4.0 * stored_blocks;
+      term.knobs.push_back("sh_order");
+    }
+    if (set.kind != "static" && set.kind != "spherical") term.knobs.push_back("light_subdivision");
+    const double values = points * channels;
+    const double stored = values * stored_blocks * precision * (knobs.text("backend") == "vulkan" ? 2.0 : 1.0);
+    term.bytes = values * (4.0 * samples + 40.0) + extra + stored;
+    term.formula = fmt::format("object '{}': {} x {:.0f} channels x ({:.0f} bytes while shooting {:.0f} light sample{}) "
+                               "+ {:.0f} MiB stored{}",
+                               context.scene.objects[object].name, volume, channels, 4.0 * samples + 40.0, samples, samples == 1.0 ? "" : "s",
+                               stored / 1048576.0, extra > 0.0 ? fmt::format(" + {:.0f} MiB while collapsing or fitting", extra / 1048576.0) : "");
+    terms.push_back(std::move(term));
+  }
+  return terms;
 }
 
 // One file per object: a header line, then the stored values' raw bytes and their uint8 scales.

@@ -3,11 +3,13 @@
 #include <filesystem>
 #include <fstream>
 
+#include <fmt/format.h>
 #include <nanoflann.hpp>
 
 #include "core/files.h"
 #include "core/parallel.h"
 #include "core/scene_description.h"
+#include "methods/common/photon_memory.h"
 
 namespace causticbench {
 
@@ -57,6 +59,19 @@ const MethodInfo& PhotonMapMethod::static_info() {
     return m;
   }();
   return info;
+}
+
+// The trace's peak holds every deposited photon twice (methods/common/photon_memory.h); an animated
+// scene retraces each frame while the previous frame's kd-tree (a 4-byte index and about 10 bytes of
+// nodes a photon) is still alive.
+std::vector<MemoryTerm> PhotonMapMethod::knob_memory(const PrepareContext& context, const ParamSet& knobs) const {
+  const double photons = static_cast<double>(knobs.integer("photons"));
+  const double deposits = deposits_per_photon_bound(context, static_cast<uint64_t>(knobs.integer("seed")),
+                                                    PhotonTracerSettings{}.max_bounces);
+  const double per_photon = kBytesPerTracedPhoton + (scene_is_static(context.scene) ? 0.0 : 14.0);
+  return {MemoryTerm{{"photons"}, photons * deposits * per_photon,
+                     fmt::format("{:.3g} photons x {:.2f} deposited each at most x {:.0f} bytes", photons, deposits,
+                                 per_photon)}};
 }
 
 void PhotonMapMethod::prepare(const PrepareContext& context, const ParamSet& build) {

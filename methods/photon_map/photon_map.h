@@ -24,6 +24,7 @@ class PhotonMapMethod : public CausticMethod {
   Counters counters() const override;
   nlohmann::json record() const override;
   std::optional<nlohmann::json> build_dependencies(const PrepareContext& context, const ParamSet& build) const override;
+  std::vector<MemoryTerm> knob_memory(const PrepareContext& context, const ParamSet& knobs) const override;
   void save_build(const std::string& folder) const override;
   void load_build(const PrepareContext& context, const ParamSet& build, const std::string& folder) override;
 

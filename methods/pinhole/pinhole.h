@@ -26,6 +26,7 @@ class PinholeMethod : public CausticMethod {
   size_t memory_bytes() const override;
   Counters counters() const override;
   nlohmann::json record() const override;
+  std::vector<MemoryTerm> knob_memory(const PrepareContext& context, const ParamSet& knobs) const override;
   std::optional<double> gpu_render_milliseconds() const override {
     return vulkan_ ? std::optional<double>(gpu_render_ms_) : std::nullopt;
   }

@@ -9,6 +9,7 @@
 #include "core/image_statistics.h"
 #include "core/parallel.h"
 #include "core/progress.h"
+#include "methods/common/photon_memory.h"
 #include "methods/reference/reference_estimators.h"
 
 namespace causticbench {
@@ -72,6 +73,19 @@ const MethodInfo& ReferenceMethod::static_info() {
 void ReferenceMethod::check_scene(const Scene& scene) const {}
 
 void ReferenceMethod::prepare(const PrepareContext& context, const ParamSet& build) {}
+
+// A pass traces its photons into one vector, cleared before the next stream: the trace's peak
+// (methods/common/photon_memory.h) for one stream's photons. Crediting (12 bytes a photon) and ppm's
+// grid (at most 40) stay below it.
+std::vector<MemoryTerm> ReferenceMethod::knob_memory(const PrepareContext& context, const ParamSet& knobs) const {
+  const double per_pass = static_cast<double>(knobs.integer("photons_per_pass"));
+  const double stream = knobs.text("estimator") == "ppm" ? std::max(1.0, std::floor(per_pass / 2.0)) : per_pass;
+  const double deposits = deposits_per_photon_bound(context, static_cast<uint64_t>(knobs.integer("seed")) * 2,
+                                                    static_cast<int>(knobs.integer("max_bounces")));
+  return {MemoryTerm{{"photons_per_pass"}, stream * deposits * kBytesPerTracedPhoton,
+                     fmt::format("{:.3g} photons a stream x {:.2f} deposited each at most x {:.0f} bytes", stream,
+                                 deposits, kBytesPerTracedPhoton)}};
+}
 
 void ReferenceMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
   tracer_ = &frame.tracer;

@@ -23,6 +23,7 @@ class ReferenceMethod : public CausticMethod {
   size_t memory_bytes() const override { return memory_bytes_; }
   Counters counters() const override;
   nlohmann::json record() const override { return record_; }
+  std::vector<MemoryTerm> knob_memory(const PrepareContext& context, const ParamSet& knobs) const override;
   // The estimated root-mean-square error of each pixel of the last render (W/m^2, RGB): standard error,
   // and for ppm the estimated bias too. Stored beside a cached reference as error_<frame>.exr.
   const Image& error_map() const { return error_map_; }
