@@ -189,7 +189,7 @@ Bundle refine_bundle(const std::vector<CausticRay>& rays, const std::vector<uint
   // less than 1e-9 rad. A bundle of a complex object may have no such fixed point: on the bunny (256
   // rays a side) at a distance threshold of 0.1 bounding radii most axes orbit to the 100-step cap,
   // moving by 3 to 5 % of the threshold and turning by about 0.004 rad a step; at 0.3 (the default)
-  // they settle in 8 to 21 steps, as the paper's "about 15". Looser criteria were measured on the glass sphere of tests/test_csl.cpp
+  // they settle in 8 to 21 steps, as the paper's "about 15". Looser criteria were measured on the glass sphere of methods/csl/tests/test_csl.cpp
   // (0.1 of the threshold and 0.01 rad: relMSE away from the focus 0.082 instead of 0.164, but energy
   // 0.945 instead of 0.989) and are left for a sweep, not made the default.
   const double tolerance = 1e-6 * std::max(1e-9, settings.distance_threshold);

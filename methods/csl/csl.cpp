@@ -45,7 +45,7 @@ SpotLightSet csl::make_spot_light_set(const Tracer& tracer, const BoundingSphere
 }
 
 CslMethod::Plan CslMethod::make_plan(const PrepareContext& context, const ParamSet& build,
-                                     std::unique_ptr<lpi::SphericalMesh>& mesh) {
+                                     std::unique_ptr<SphericalMesh>& mesh) {
   Plan plan;
   const bool all = build.text("light_samples") == "all";
   const int level = static_cast<int>(build.integer("light_subdivision"));
@@ -68,7 +68,7 @@ CslMethod::Plan CslMethod::make_plan(const PrepareContext& context, const ParamS
       plan.dynamic.emplace_back();
       plan.facets.emplace_back();
     } else {
-      if (!mesh) mesh = std::make_unique<lpi::SphericalMesh>(lpi::SphericalMesh::geodesic_vertices(level));
+      if (!mesh) mesh = std::make_unique<SphericalMesh>(SphericalMesh::geodesic_vertices(level));
       DynamicPlan dynamic;
       dynamic.level = level;
       dynamic.all = all;
@@ -159,7 +159,7 @@ void CslMethod::count_rays() {
 void CslMethod::update_dynamic(const ObjectSets& sets, const Vec3& direction, const ParamSet& frame_knobs,
                                LightView& view) const {
   const DynamicSets& dynamic = *sets.dynamic;
-  const lpi::SphericalMesh::Location location = mesh_->locate(direction);
+  const SphericalMesh::Location location = mesh_->locate(direction);
   const DynamicSets::Facet* facet = dynamic.facet(location.triangle);
   if (facet == nullptr) {
     throw std::logic_error(fmt::format("csl: object '{}' sees a light direction in facet {}, which was not built",

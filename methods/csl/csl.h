@@ -75,7 +75,7 @@ class CslMethod : public CausticMethod {
     std::vector<std::optional<csl::DynamicPlan>> dynamic;
     std::vector<std::vector<uint32_t>> facets;  // per dynamic object, the facets it builds
   };
-  static Plan make_plan(const PrepareContext& context, const ParamSet& build, std::unique_ptr<lpi::SphericalMesh>& mesh);
+  static Plan make_plan(const PrepareContext& context, const ParamSet& build, std::unique_ptr<SphericalMesh>& mesh);
   void count_rays();
   static void check_some_spot_light(const std::string& object, const std::vector<csl::SpotLightSet>& sets, const ParamSet& build);
   void update_dynamic(const ObjectSets& sets, const Vec3& direction, const ParamSet& frame_knobs, LightView& view) const;
@@ -101,7 +101,7 @@ class CslMethod : public CausticMethod {
 
   const Scene* scene_ = nullptr;
   const Tracer* tracer_ = nullptr;  // the frame's, from update(): the shadow rays' scene
-  std::unique_ptr<lpi::SphericalMesh> mesh_;  // the light directions of the dynamic sets
+  std::unique_ptr<SphericalMesh> mesh_;  // the light directions of the dynamic sets
   std::vector<ObjectSets> objects_;
   std::vector<ObjectFrame> frame_;
   double rays_traced_ = 0.0;

@@ -17,7 +17,7 @@ namespace causticbench {
 using namespace csl;
 
 std::optional<nlohmann::json> CslMethod::build_dependencies(const PrepareContext& context, const ParamSet& build) const {
-  std::unique_ptr<lpi::SphericalMesh> mesh;
+  std::unique_ptr<SphericalMesh> mesh;
   const Plan plan = make_plan(context, build, mesh);
   nlohmann::json objects = nlohmann::json::array();
   for (size_t i = 0; i < plan.objects.size(); ++i) {

@@ -40,7 +40,7 @@ constexpr double kTypicalSpotLightsPerDirection = 8.0;
 }  // namespace
 
 std::vector<MemoryTerm> CslMethod::knob_memory(const PrepareContext& context, const ParamSet& knobs) const {
-  std::unique_ptr<lpi::SphericalMesh> mesh;
+  std::unique_ptr<SphericalMesh> mesh;
   const Plan plan = make_plan(context, knobs, mesh);
   const double per_side = static_cast<double>(knobs.integer("rays_per_side"));
   const double raster = std::pow(static_cast<double>(knobs.integer("raster_resolution")), 3.0);

@@ -80,13 +80,13 @@ nlohmann::json DynamicSets::summary() const {
           {"tracking_seconds", seconds_tracking()}};
 }
 
-std::vector<uint32_t> planned_facets(const lpi::SphericalMesh& mesh, const DynamicPlan& plan) {
+std::vector<uint32_t> planned_facets(const SphericalMesh& mesh, const DynamicPlan& plan) {
   std::set<uint32_t> facets;
   if (plan.all) {
     for (uint32_t t = 0; t < mesh.triangles().size(); ++t) facets.insert(t);
   } else {
     for (const Vec3& direction : plan.directions) {
-      const lpi::SphericalMesh::Location location = mesh.locate(direction);
+      const SphericalMesh::Location location = mesh.locate(direction);
       facets.insert(location.triangle);
       for (int e = 0; e < 3; ++e) {
         if (location.weights[e] < 1e-6f) facets.insert(mesh.neighbours()[location.triangle][e]);
@@ -96,7 +96,7 @@ std::vector<uint32_t> planned_facets(const lpi::SphericalMesh& mesh, const Dynam
   return {facets.begin(), facets.end()};
 }
 
-DynamicSets build_dynamic_sets(const Tracer& tracer, const BoundingSphere& bounds, const lpi::SphericalMesh& mesh,
+DynamicSets build_dynamic_sets(const Tracer& tracer, const BoundingSphere& bounds, const SphericalMesh& mesh,
                                const DynamicPlan& plan, const std::function<SpotLightSet(const Vec3&)>& make_set,
                                const TrackingSettings& tracking) {
   DynamicSets result;

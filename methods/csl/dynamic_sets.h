@@ -1,5 +1,5 @@
 // Dynamic light for one object (Liu et al. 2008, Section 4): static CSL sets for the vertices of a
-// subdivided icosahedron of light directions (methods/lpi/geodesic.h, the same geodesic spheres lpi
+// subdivided icosahedron of light directions (methods/common/geodesic.h, the same geodesic spheres lpi
 // samples light on), the spot lights of every two neighbouring directions matched by tracking
 // (methods/csl/tracking.h), and per facet the triples of Section 4.3 (methods/csl/triples.h); per frame
 // the facet the light's direction falls in and its barycentric weights pick the triples to interpolate
@@ -18,7 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "methods/csl/triples.h"
-#include "methods/lpi/geodesic.h"
+#include "methods/common/geodesic.h"
 
 namespace causticbench::csl {
 
@@ -59,12 +59,12 @@ struct DynamicPlan {
 
 // `make_set(direction)`: the static set of one direction (methods/csl/generate.h through the object's
 // tracer). Sets and edges are built in parallel; the result does not depend on the thread count.
-DynamicSets build_dynamic_sets(const Tracer& tracer, const BoundingSphere& bounds, const lpi::SphericalMesh& mesh,
+DynamicSets build_dynamic_sets(const Tracer& tracer, const BoundingSphere& bounds, const SphericalMesh& mesh,
                                const DynamicPlan& plan, const std::function<SpotLightSet(const Vec3&)>& make_set,
                                const TrackingSettings& tracking);
 
 // The facets a plan needs: those its directions fall in, and where a direction lies on an edge
 // (weight below 1e-6) the facet across it too, since a lookup may land in either.
-std::vector<uint32_t> planned_facets(const lpi::SphericalMesh& mesh, const DynamicPlan& plan);
+std::vector<uint32_t> planned_facets(const SphericalMesh& mesh, const DynamicPlan& plan);
 
 }  // namespace causticbench::csl

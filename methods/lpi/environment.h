@@ -24,7 +24,7 @@
 #include <glm/mat3x3.hpp>
 
 #include "core/light.h"
-#include "methods/lpi/geodesic.h"
+#include "methods/common/geodesic.h"
 #include "methods/lpi/stored_values.h"
 
 namespace causticbench::lpi {
@@ -53,7 +53,7 @@ EnvironmentQuadrature environment_quadrature(const LightFrame& light, double cel
 
 // The cell size that resolves a set's hat functions (an eighth of its longest edge), and the
 // spherical harmonics of `bands` bands (a sixteenth of pi / bands). Tested to converge: a weight is
-// then within about 5e-3 of its own value, 5e-4 of the map's total (tests/test_lpi_environment.cpp).
+// then within about 5e-3 of its own value, 5e-4 of the map's total (methods/lpi/tests/test_lpi_environment.cpp).
 // Real maps' texels are mostly finer than that already (the forest's 0.35 degrees): one point each.
 double hat_quadrature_angle(const SphericalMesh& mesh);
 double harmonic_quadrature_angle(int bands);

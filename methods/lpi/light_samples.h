@@ -10,7 +10,7 @@
 #include <glm/mat3x3.hpp>
 
 #include "core/math.h"
-#include "methods/lpi/geodesic.h"
+#include "methods/common/geodesic.h"
 
 namespace causticbench::lpi {
 

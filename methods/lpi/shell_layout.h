@@ -17,7 +17,7 @@
 #include <array>
 #include <vector>
 
-#include "methods/lpi/geodesic.h"
+#include "methods/common/geodesic.h"
 #include "methods/lpi/volume_layout.h"
 
 namespace causticbench::lpi {

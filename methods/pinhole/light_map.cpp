@@ -211,7 +211,7 @@ struct FilteredLightMap::State {
 
 namespace {
 
-// OpenImageIO's lat-long layout with +y up (checked by tests/test_pinhole.cpp against the cube map):
+// OpenImageIO's lat-long layout with +y up (checked by methods/pinhole/tests/test_pinhole.cpp against the cube map):
 // v = theta / pi from +y, u = phi / 2 pi with direction (sin theta sin phi, cos theta, -sin theta cos phi).
 Vec3 latlong_direction(float u, float v) {
   float phi = 2.0f * kPi * u, theta = kPi * v;

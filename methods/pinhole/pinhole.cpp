@@ -265,7 +265,7 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   Interaction interaction{build_.text("interaction") == "refract", params.boolean("fresnel")};
   const std::string& filtering = build_.text("filtering");
   const bool filtered = filtering != "none" && (filtered_map_ || cube_filter_);
-  // The skip of footprints that reach no light changes nothing (tests/test_pinhole.cpp); the variable
+  // The skip of footprints that reach no light changes nothing (methods/pinhole/tests/test_pinhole.cpp); the variable
   // turns it off to show that.
   const bool skip = std::getenv("CAUSTICBENCH_PINHOLE_NO_SKIP") == nullptr;
   const bool anisotropic = filtering == "anisotropic";

@@ -2,7 +2,7 @@
 // and look into a lit block, the bilinear light-map radiance (LightCubeMap::lookup_texel's arithmetic)
 // times the tabulated throughput (throughput.h) times the geometric weight, summed. With AVX2, eight
 // samples at a time through gathers; the per-lane arithmetic is the scalar lookup's, only the order of
-// the final sum differs (tests/test_pinhole.cpp bounds the difference). Under an environment map the
+// the final sum differs (methods/pinhole/tests/test_pinhole.cpp bounds the difference). Under an environment map the
 // texels are read from the shared-exponent copy (packed_texels.h), a third of the float map's size.
 #pragma once
 

@@ -32,7 +32,7 @@ inline Color light_throughput(const Material& material, const Interaction& inter
 // and interpolated linearly. Reflection only: refraction has a kink at the critical angle (total
 // internal reflection) that a linear table would round off. The largest deviation from the exact value
 // over a grid 16 times finer is measured when the table is made (max_error(); below 1e-5 for the
-// shipped metals and glass, tests/test_pinhole.cpp).
+// shipped metals and glass, methods/pinhole/tests/test_pinhole.cpp).
 class ThroughputTable {
  public:
   static constexpr int kEntries = 1024;

@@ -1,4 +1,4 @@
-// lpi's two math modules: the geodesic sphere with its point location (methods/lpi/geodesic.h) and
+// lpi's two math modules: the geodesic sphere with its point location (methods/common/geodesic.h) and
 // real spherical harmonics (methods/lpi/spherical_harmonics.h). Links only causticbench_core.
 #include <algorithm>
 #include <array>
@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "core/sampling.h"
-#include "methods/lpi/geodesic.h"
+#include "methods/common/geodesic.h"
 #include "methods/lpi/spherical_harmonics.h"
 
 namespace causticbench::lpi {

@@ -1,6 +1,6 @@
 // The scene pinhole's tests render most: a mirror sphere above a floor, seen from above. One
 // reflection and no occlusion of the reflected light, so the pinhole method converges to the
-// reference. Shared by tests/test_pinhole.cpp and tests/test_pinhole_filter.cpp.
+// reference. Shared by methods/pinhole/tests/test_pinhole.cpp and methods/pinhole/tests/test_pinhole_filter.cpp.
 #pragma once
 
 #include <string>

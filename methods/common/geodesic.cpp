@@ -1,4 +1,4 @@
-#include "methods/lpi/geodesic.h"
+#include "methods/common/geodesic.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <string>
 #include <utility>
 
-namespace causticbench::lpi {
+namespace causticbench {
 
 namespace {
 
@@ -448,4 +448,4 @@ double solid_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c
   return 2.0 * std::atan2(numerator, denominator);
 }
 
-}  // namespace causticbench::lpi
+}  // namespace causticbench

@@ -1,4 +1,5 @@
-// Geodesic spheres for lpi (Wyman et al. 2003): the light sample directions of Section 4.1 (an
+// Geodesic spheres, shared by lpi and csl (csl's dynamic light directions are the same spheres). For
+// lpi (Wyman et al. 2003): the light sample directions of Section 4.1 (an
 // icosahedron subdivided 3 to 6 times, sampled at its vertices or face centres) and the angular cells
 // of the concentric-shell storage of Section 4.2 ("we avoid the difficulty of indexing into a geodesic
 // by using a table lookup"), as one spherical triangulation with constant-time point location.
@@ -14,7 +15,7 @@
 
 #include "core/math.h"
 
-namespace causticbench::lpi {
+namespace causticbench {
 
 // Solid angle of the spherical triangle (a, b, c), unit vectors (Van Oosterom & Strackee 1983).
 double solid_angle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
@@ -57,7 +58,7 @@ class SphericalMesh {
   // d lies on an edge (within kEdgeTolerance; any adjacent triangle may be returned). The weights are
   // computed in double from the float corners, so they are exact to float rounding for the float d.
   // d must be finite and non-zero; it need not be exactly unit. Cost: one table read, then one triangle
-  // tested two times in three, a few otherwise (tests/test_lpi_math.cpp, DISABLED_LocateThroughput).
+  // tested two times in three, a few otherwise (methods/lpi/tests/test_lpi_math.cpp, DISABLED_LocateThroughput).
   struct Location {
     uint32_t triangle = 0;
     std::array<float, 3> weights{1.0f, 0.0f, 0.0f};
@@ -135,4 +136,4 @@ class SphericalMesh {
   std::vector<uint32_t> candidates_;  // per texel after its first, the likelier first
 };
 
-}  // namespace causticbench::lpi
+}  // namespace causticbench

@@ -21,7 +21,7 @@
 #include "methods/pinhole/reflector_sampling.h"
 #include "methods/pinhole/texel_fetch.h"
 #include "methods/pinhole/throughput.h"
-#include "tests/pinhole_test_scenes.h"
+#include "methods/pinhole/tests/test_scenes.h"
 #include "tests/test_support.h"
 
 using namespace causticbench;

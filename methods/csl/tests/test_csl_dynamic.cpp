@@ -179,7 +179,7 @@ TEST(CslInterpolation, SphericalMeanAndPlaneMaps) {
 TEST(CslDynamic, InterpolationIsExactAtCornersAndConservesFlux) {
   const SphereBuild sphere;
   const ParamSet build = csl_build_knobs({"rays_per_side=64", "tracking_rays_per_side=32", "tracking_steps=4"});
-  const lpi::SphericalMesh mesh = lpi::SphericalMesh::geodesic_vertices(0);
+  const SphericalMesh mesh = SphericalMesh::geodesic_vertices(0);
   DynamicPlan plan;
   plan.level = 0;
   plan.all = true;

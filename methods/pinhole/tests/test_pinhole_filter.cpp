@@ -14,7 +14,7 @@
 #include "core/image_statistics.h"
 #include "methods/pinhole/cube_filter.h"
 #include "methods/pinhole/light_map.h"
-#include "tests/pinhole_test_scenes.h"
+#include "methods/pinhole/tests/test_scenes.h"
 #include "tests/test_support.h"
 
 using namespace causticbench;
