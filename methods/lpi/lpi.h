@@ -77,6 +77,8 @@ class LpiMethod : public CausticMethod {
 
 namespace lpi {
 VolumeSettings volume_settings(const ParamSet& build);
+// The render knob `outside` as the lookup's mode.
+Outside outside_mode(const ParamSet& render);
 }  // namespace lpi
 
 }  // namespace causticbench
