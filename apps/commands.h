@@ -56,7 +56,7 @@ int run_report(const std::string& folder, bool recompute_metrics = false);
 int run_summarize(const std::vector<std::string>& folders, const std::string& out);
 int run_gpu_compare(const std::string& folder);
 int run_list();
-int run_describe(const std::string& method, bool markdown);
+int run_describe(const std::string& method, bool markdown, bool quick_knobs);
 int run_validate(const std::string& file);
 
 // "WxH" -> width, height; InputError otherwise.

@@ -30,8 +30,12 @@ int run_list() {
   return 0;
 }
 
-int run_describe(const std::string& name, bool markdown) {
+int run_describe(const std::string& name, bool markdown, bool quick_knobs) {
   const MethodInfo& info = find_method(name).info();
+  if (quick_knobs) {
+    for (const std::string& knob : info.quick_knobs) fmt::print("{}\n", knob);
+    return 0;
+  }
   fmt::print("{}", markdown ? describe_markdown(info) : describe_text(info));
   return 0;
 }

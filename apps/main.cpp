@@ -143,6 +143,10 @@ int main(int argc, char** argv) {
   CLI::App* describe_command = app.add_subcommand("describe", "Print a method's knobs (name, phase, type, default, range, meaning).");
   describe_command->add_option("method", describe_name, "method name")->required();
   describe_command->add_flag("--markdown", markdown, "print the table as Markdown (the method's README table)");
+  bool quick_knobs = false;
+  describe_command->add_flag("--quick-knobs", quick_knobs,
+                             "print only the method's quick knobs, one `knob=value` a line: a cheap setting for smoke runs "
+                             "(scripts/render_every_method.sh, the conformance tests)");
   std::string validate_file;
   CLI::App* validate_command = app.add_subcommand("validate", "Check a scene or experiment file; the first defect is reported with file, line, column, key, expected\nand found.");
   validate_command->add_option("file", validate_file, "scene or experiment file")->required();
@@ -163,7 +167,7 @@ int main(int argc, char** argv) {
     if (*status_command) return run_status(status_folder);
     if (*compare_command) return run_gpu_compare(compare_folder);
     if (*list_command) return run_list();
-    if (*describe_command) return run_describe(describe_name, markdown);
+    if (*describe_command) return run_describe(describe_name, markdown, quick_knobs);
     if (*validate_command) return run_validate(validate_file);
   } catch (const InputError& error) {
     fmt::print(stderr, "error: {}\n", error.what());
