@@ -1,10 +1,12 @@
 #include "core/photon_tracer.h"
 
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
+#include "core/low_discrepancy.h"
 #include "core/optics.h"
 #include "core/parallel.h"
 
@@ -102,14 +104,32 @@ CausticPhotonTracer::CausticPhotonTracer(const Tracer& tracer, PhotonTracerSetti
   total_weight_ = light_choice_.total();
 }
 
-bool CausticPhotonTracer::emit(Random& random, Ray& ray, Color& power) const {
+// Where an emission's numbers come from: the photon's own Random, drawn in call order (as emit() always
+// did, so that random emission is unchanged bit for bit), or one point of a pass's shifted Sobol sequence,
+// a dimension per purpose, the most telling first: `aim` (the disk across a target, or the cone towards
+// it: where a caustic forms), `light_sample` (a light's own direction or position), `target`, `light`.
+class CausticPhotonTracer::EmissionDraws {
+ public:
+  EmissionDraws(Random& random, const ShiftedSobol* sobol, uint32_t point) : random_(random), sobol_(sobol), point_(point) {}
+  float aim(int axis) { return sobol_ ? sobol_->uniform(point_, axis) : random_.uniform(); }
+  float light_sample(int axis) { return sobol_ ? sobol_->uniform(point_, 2 + axis) : random_.uniform(); }
+  double target() { return sobol_ ? sobol_->uniform_double(point_, 5) : random_.uniform_double(); }
+  double light() { return sobol_ ? sobol_->uniform_double(point_, 6) : random_.uniform_double(); }
+
+ private:
+  Random& random_;
+  const ShiftedSobol* sobol_;
+  uint32_t point_;
+};
+
+bool CausticPhotonTracer::emit(EmissionDraws& draws, Ray& ray, Color& power) const {
   double light_probability;
-  size_t light_index = light_choice_.sample(random.uniform_double(), light_probability);
+  size_t light_index = light_choice_.sample(draws.light(), light_probability);
   const LightFrame& light = lights_[light_index];
   // Choose a target with probability proportional to its weight, then count every target the
   // resulting ray could also have come from: the one-sample balance weight of Veach, exact for overlaps.
   if (light.kind == LightKind::point) {
-    Vec3 origin = light.sample_position(random.uniform(), random.uniform());
+    Vec3 origin = light.sample_position(draws.light_sample(0), draws.light_sample(1));
     thread_local std::vector<float> cos_max;
     cos_max.resize(targets_.size());
     double solid_angle_sum = 0.0;
@@ -120,7 +140,7 @@ bool CausticPhotonTracer::emit(Random& random, Ray& ray, Color& power) const {
                        : -1.0f;
       solid_angle_sum += 2.0 * kPiDouble * (1.0 - cos_max[i]);
     }
-    double pick = random.uniform_double() * solid_angle_sum, accumulated = 0.0;
+    double pick = draws.target() * solid_angle_sum, accumulated = 0.0;
     size_t chosen = targets_.size() - 1;
     for (size_t i = 0; i < targets_.size(); ++i) {
       accumulated += 2.0 * kPiDouble * (1.0 - cos_max[i]);
@@ -130,7 +150,7 @@ bool CausticPhotonTracer::emit(Random& random, Ray& ray, Color& power) const {
       }
     }
     Vec3 axis = cos_max[chosen] > -1.0f ? glm::normalize(targets_[chosen].center - origin) : Vec3(0, 1, 0);
-    Vec3 direction = sample_cone(axis, cos_max[chosen], random.uniform(), random.uniform());
+    Vec3 direction = sample_cone(axis, cos_max[chosen], draws.aim(0), draws.aim(1));
     int covering = 0;
     for (size_t i = 0; i < targets_.size(); ++i) {
       if (cos_max[i] <= -1.0f) {
@@ -149,9 +169,9 @@ bool CausticPhotonTracer::emit(Random& random, Ray& ray, Color& power) const {
     return true;
   }
   Color radiance_over_pdf;
-  Vec3 to_light = light.sample_direction(random.uniform(), random.uniform(), random.uniform(), radiance_over_pdf);
+  Vec3 to_light = light.sample_direction(draws.light_sample(0), draws.light_sample(1), draws.light_sample(2), radiance_over_pdf);
   if (max_component(radiance_over_pdf) <= 0.0f) return false;
-  double pick = random.uniform_double() * target_area_, accumulated = 0.0;
+  double pick = draws.target() * target_area_, accumulated = 0.0;
   size_t chosen = targets_.size() - 1;
   for (size_t i = 0; i < targets_.size(); ++i) {
     accumulated += kPiDouble * targets_[i].radius * targets_[i].radius;
@@ -163,7 +183,7 @@ bool CausticPhotonTracer::emit(Random& random, Ray& ray, Color& power) const {
   Vec3 t, b;
   orthonormal_basis(to_light, t, b);
   float x, y;
-  sample_disk(random.uniform(), random.uniform(), x, y);
+  sample_disk(draws.aim(0), draws.aim(1), x, y);
   Vec3 point = targets_[chosen].center + targets_[chosen].radius * (x * t + y * b);
   int covering = 0;
   for (const BoundingSphere& target : targets_) {
@@ -193,7 +213,14 @@ void CausticPhotonTracer::walk(uint64_t index, PhotonStats& stats, OnReceiver&& 
   if (targets_.empty() || total_weight_ <= 0.0) return;
   Ray ray;
   Color power;
-  if (!emit(random, ray, power)) return;
+  std::optional<ShiftedSobol> sobol;
+  uint32_t point = 0;
+  if (settings_.stratified_pass_size > 0) {
+    sobol.emplace(settings_.seed, index / settings_.stratified_pass_size);
+    point = static_cast<uint32_t>(index % settings_.stratified_pass_size);
+  }
+  EmissionDraws draws(random, sobol ? &*sobol : nullptr, point);
+  if (!emit(draws, ray, power)) return;
   const Scene& scene = *tracer_.frame().scene;
   float initial = max_component(power);
   int specular_bounces = 0;

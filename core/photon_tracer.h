@@ -36,6 +36,13 @@ struct PhotonTracerSettings {
   uint64_t seed = 1;
   int max_bounces = 32;         // specular bounces before a path is cut
   int roulette_after = 4;       // bounces before Russian roulette starts
+  // 0: every emission draws from Random(seed, index). N > 0: stratified emission in passes of N photons:
+  // photon index i is point i mod N of pass i / N's randomised Sobol sequence (core/low_discrepancy.h)
+  // for where it leaves the light and where it aims (the disk across a target for a distant light, the
+  // cone towards it for a point light, then the light's own sampling, the target and the light chosen);
+  // its path after emission still draws from Random(seed, i). Each pass is an unbiased, independent
+  // replicate whose photons cover the emission evenly.
+  uint64_t stratified_pass_size = 0;
 };
 
 struct PhotonStats {
@@ -103,7 +110,8 @@ class CausticPhotonTracer {
   bool has_targets() const { return !targets_.empty(); }
 
  private:
-  bool emit(Random& random, Ray& ray, Color& power) const;
+  class EmissionDraws;
+  bool emit(EmissionDraws& draws, Ray& ray, Color& power) const;
   template <class OnReceiver, class OnSegment>
   void walk(uint64_t index, PhotonStats& stats, OnReceiver&& on_receiver, OnSegment&& on_segment) const;
 

@@ -18,8 +18,8 @@ namespace causticbench {
 
 const char* const kReferenceErrorDefinition =
     "estimated relMSE of the result against the pixel's true footprint-average E_c (docs/metrics.md): per pixel the "
-    "variance (footprint: from the second moment of the photons' contributions; ppm: (A - B)^2 / 4 of two independent "
-    "halves) plus, for ppm, the squared bias beyond both variances against a footprint tally of the same photons, "
+    "variance (footprint: from the spread of independent passes under stratified emission, from the second moment of "
+    "the photons' contributions under random emission; ppm: (A - B)^2 / 4 of two independent halves) plus, for ppm, the squared bias beyond both variances against a footprint tally of the same photons, "
     "divided by value^2 + (0.1 mean)^2 as relMSE does; error_estimate = variance_estimate + bias_estimate";
 
 void ReferenceMethod::check_scene(const Scene& scene) const {}
@@ -63,11 +63,24 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   std::vector<ProgressiveEstimator> halves;
   if (progressive)
     for (int h = 0; h < 2; ++h) halves.emplace_back(points, gbuffer, params.real("initial_radius_pixels"));
-  memory_bytes_ = points.size() * (sizeof(uint32_t) + 2 * sizeof(Vec3) + 2 * sizeof(glm::dvec3) +
+  memory_bytes_ = points.size() * (sizeof(uint32_t) + 2 * sizeof(Vec3) + 5 * sizeof(glm::dvec3) +
                                    (progressive ? 2 * (sizeof(double) + sizeof(float) + sizeof(glm::dvec3)) : 0)) +
                   gbuffer.pixel_count() * (sizeof(int32_t) + sizeof(uint8_t));
   std::vector<CausticPhotonTracer> photon_tracers;
-  for (int h = 0; h < streams; ++h) photon_tracers.emplace_back(*tracer_, PhotonTracerSettings{seed * 2 + h, max_bounces});
+  // Stratified emission: each stream's pass is one replicate of photons_per_stream photons spread evenly
+  // over the emission (core/low_discrepancy.h); the replicates are independent of each other.
+  const bool stratified = params.text("emission") == "stratified";
+  for (int h = 0; h < streams; ++h) {
+    PhotonTracerSettings settings{seed * 2 + h, max_bounces};
+    if (stratified) settings.stratified_pass_size = photons_per_stream;
+    photon_tracers.emplace_back(*tracer_, settings);
+  }
+  // The tally's variance: the spread of its replicates once there are two (the only honest measure under
+  // stratified emission, and exact for random emission too, where it is also the photons' second moment's
+  // job); before that, the photons' second moment, which overstates a stratified pass's variance.
+  auto tally_variance_of = [&](size_t point) {
+    return stratified && tally.replicates() >= 2 ? tally.replicate_variance(point) : tally.photon_variance(point);
+  };
 
   ErrorImage error;
   auto estimate_error = [&] {
@@ -75,7 +88,7 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
     error.squared_error.resize(points.size());
     error.variance.resize(points.size());
     for (size_t i = 0; i < points.size(); ++i) {
-      const glm::dvec3 tally_value = tally.value(i), tally_variance = tally.variance(i);
+      const glm::dvec3 tally_value = tally.value(i), tally_variance = tally_variance_of(i);
       if (!progressive) {
         error.value[i] = tally_value;
         error.variance[i] = error.squared_error[i] = tally_variance;
@@ -109,8 +122,8 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
       photon_tracers[h].trace(static_cast<uint64_t>(pass) * photons_per_stream, photons_per_stream, photons, stats);
       auto credit_start = std::chrono::steady_clock::now();
       trace_seconds += std::chrono::duration<double>(credit_start - trace_start).count();
-      tally.add_emitted(photons_per_stream);
       if (points.size() > 0) credited += tally.credit(points, *camera_, *tracer_, photons);
+      tally.end_replicate(photons_per_stream);
       credit_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - credit_start).count();
       if (progressive) {
         halves[h].add_emitted(photons_per_stream);
@@ -159,6 +172,7 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   photons_credited_ = credited;
   passes_ = static_cast<uint64_t>(pass);
   record_ = {{"estimator", params.text("estimator")},
+             {"emission", params.text("emission")},
              {"passes", pass},
              {"photons_emitted", stats.emitted},
              {"photons_deposited", stats.deposited},

@@ -47,20 +47,40 @@ uint64_t FootprintTally::credit(const MeasurementPoints& points, const CameraFra
     glm::dvec3 contribution = glm::dvec3(photons[i].power) * weight[i];
     sum_[target[i]] += contribution;
     sum_squares_[target[i]] += contribution * contribution;
+    replicate_sum_[target[i]] += contribution;
     ++credited;
   }
   return credited;
+}
+
+void FootprintTally::end_replicate(uint64_t emitted) {
+  emitted_ += emitted;
+  ++replicates_;
+  const double n = static_cast<double>(std::max<uint64_t>(1, emitted));
+  for (size_t i = 0; i < replicate_sum_.size(); ++i) {
+    const glm::dvec3 value = replicate_sum_[i] / n;
+    replicate_values_[i] += value;
+    replicate_squares_[i] += value * value;
+    replicate_sum_[i] = glm::dvec3(0.0);
+  }
 }
 
 glm::dvec3 FootprintTally::value(size_t point) const {
   return sum_[point] / static_cast<double>(std::max<uint64_t>(1, emitted_));
 }
 
-glm::dvec3 FootprintTally::variance(size_t point) const {
+glm::dvec3 FootprintTally::photon_variance(size_t point) const {
   // Var(mean) = (E[X^2] - E[X]^2) / N over the N photons emitted, most of whose X are zero.
   const double n = static_cast<double>(std::max<uint64_t>(2, emitted_));
   glm::dvec3 mean = sum_[point] / n;
   return glm::max(sum_squares_[point] / n - mean * mean, glm::dvec3(0.0)) / (n - 1.0);
+}
+
+glm::dvec3 FootprintTally::replicate_variance(size_t point) const {
+  // The sample variance of R independent replicates over R: the variance of their mean.
+  const double r = static_cast<double>(std::max<uint64_t>(2, replicates_));
+  const glm::dvec3 mean = replicate_values_[point] / r;
+  return glm::max(replicate_squares_[point] / r - mean * mean, glm::dvec3(0.0)) / (r - 1.0);
 }
 
 ProgressiveEstimator::ProgressiveEstimator(const MeasurementPoints& points, const GBuffer& gbuffer,

@@ -2,7 +2,8 @@
 // the estimate of their error:
 // - footprint: every deposited photon the camera sees is credited to the pixel whose footprint holds it,
 //   weighted by the image area per surface area there. No radius, so no radius bias: its error is its
-//   variance, estimated per pixel from the second moment of the photons' contributions.
+//   variance, estimated per pixel from the spread of independent passes (stratified emission) or from
+//   the second moment of the photons' contributions (random emission).
 // - ppm: progressive photon mapping (Hachisuka, Ogaki and Jensen 2008) at the pixel centres, in two
 //   independent halves whose difference measures its variance. Its bias against the pixel's footprint
 //   average is estimated from a footprint tally of the same photons.
@@ -31,26 +32,37 @@ struct MeasurementPoints {
   size_t size() const { return pixel.size(); }
 };
 
-// Sums of each point's photon contributions and of their squares (W/m^2 times photons emitted).
+// Sums of each point's photon contributions and of their squares (W/m^2 times photons emitted), and of
+// each replicate's estimate and its square: a replicate is a batch of photons independent of the others
+// (a pass of stratified emission, whose photons are not independent of each other), so that the spread of
+// the replicates measures the variance of their mean where the photons' second moment would overstate it.
 class FootprintTally {
  public:
-  explicit FootprintTally(size_t points) : sum_(points, glm::dvec3(0.0)), sum_squares_(points, glm::dvec3(0.0)) {}
+  explicit FootprintTally(size_t points)
+      : sum_(points, glm::dvec3(0.0)), sum_squares_(points, glm::dvec3(0.0)), replicate_sum_(points, glm::dvec3(0.0)),
+        replicate_values_(points, glm::dvec3(0.0)), replicate_squares_(points, glm::dvec3(0.0)) {}
   // Credits the photons of one batch: projects each through the camera, keeps it when the camera sees
   // the side it arrived on with nothing in between and its pixel is a receiver. Deterministic for any
   // thread count (the sums run in photon order). Returns how many were credited.
   uint64_t credit(const MeasurementPoints& points, const CameraFrame& camera, const Tracer& tracer,
                   const std::vector<Photon>& photons);
-  void add_emitted(uint64_t count) { emitted_ += count; }
+  // Ends the current replicate, of `emitted` photons (every photon credited since the last call).
+  void end_replicate(uint64_t emitted);
   uint64_t emitted() const { return emitted_; }
-  // The estimate (mean contribution per photon emitted) and its variance per point and channel. Deposits
+  uint64_t replicates() const { return replicates_; }
+  // The estimate (mean contribution per photon emitted) per point and channel.
+  glm::dvec3 value(size_t point) const;
+  // Its variance from the photons' second moment, for independent photons (random emission). Deposits
   // of one path in one pixel count as independent samples (only a diffuse+mirror receiver makes a path
   // deposit twice), which slightly underestimates the variance there.
-  glm::dvec3 value(size_t point) const;
-  glm::dvec3 variance(size_t point) const;
+  glm::dvec3 photon_variance(size_t point) const;
+  // Its variance from the spread of the replicates (equal in size), for any emission; needs two.
+  glm::dvec3 replicate_variance(size_t point) const;
 
  private:
   std::vector<glm::dvec3> sum_, sum_squares_;
-  uint64_t emitted_ = 0;
+  std::vector<glm::dvec3> replicate_sum_, replicate_values_, replicate_squares_;
+  uint64_t emitted_ = 0, replicates_ = 0;
 };
 
 // One progressive photon mapping estimator over the points (Hachisuka et al. 2008, Section 4.2):

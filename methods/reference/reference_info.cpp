@@ -30,6 +30,12 @@ const MethodInfo& ReferenceMethod::static_info() {
                           "(unbiased for the pixel's average E_c; docs/metrics.md); ppm: progressive photon mapping at "
                           "the pixel centres (biased near folds and foci by its radius)",
                           render),
+        ParamSpec::choice("emission", "stratified", {"stratified", "random"},
+                          "stratified: each pass's photons leave the lights at the points of a randomised Sobol sequence "
+                          "(unbiased; evenly spread over where they aim, so a pixel's count varies less than at random), "
+                          "the error measured from the spread of independent passes; random: independent draws, the "
+                          "error from the photons' second moment",
+                          render),
         ParamSpec::integer("photons_per_pass", 4000000, 1000, 1e9, "photons emitted per pass (ppm: split between the two halves)",
                            render),
         ParamSpec::real("target_error", 1e-3, 0.0, 1.0,
@@ -53,9 +59,10 @@ const MethodInfo& ReferenceMethod::static_info() {
     c.moving_light = c.moving_objects = c.occlusion = c.non_lambertian_receivers = true;
     c.notes = {{"non_lambertian_receivers", "E_c is irradiance, independent of the receiver's BRDF"}};
     m.quick_knobs = {"photons_per_pass=20000", "max_passes=2", "target_error=0", "max_seconds=0"};
-    // Per receiver pixel its point, the tally's two moments and (ppm) both halves' statistics, as
-    // memory_bytes() counts them: 81 bytes with the footprint tally, 153 with ppm; the larger is declared.
-    m.working_bytes_per_pixel = 153.0;
+    // Per receiver pixel its point, the tally's two photon moments and three replicate sums and (ppm) both
+    // halves' statistics, as memory_bytes() counts them: 153 bytes with the footprint tally, 225 with ppm;
+    // the larger is declared.
+    m.working_bytes_per_pixel = 225.0;
     m.counters = {counter_quantity("photons_emitted", "photons", "photons emitted over all passes"),
                   counter_quantity("photons_deposited", "photons", "photon hits on receivers over all passes"),
                   counter_quantity("photons_credited", "photons", "photon hits the camera sees on receiver pixels (footprint tally)"),
