@@ -6,10 +6,10 @@
 #include "core/errors.h"
 #include "core/parallel.h"
 #include "experiments/recompute_metrics.h"
-#include "experiments/result_store.h"
+#include "store/result_paths.h"
 #include "experiments/runner.h"
 #include "experiments/shard_plan.h"
-#include "experiments/sweep_status.h"
+#include "store/sweep_status.h"
 #include "reports/report.h"
 #include "reports/summary.h"
 
@@ -29,7 +29,7 @@ int run_experiment_command(const ExperimentOptions& options) {
   if (!options.shard.empty()) parse_shard(options.shard, run.shard_index, run.shard_count);
   if (!options.shard_plan.empty()) {
     if (options.shard.empty()) throw InputError("--shard-plan: expected with --shard i/n, found no --shard");
-    ShardPlan plan = read_shard_plan(options.shard_plan, &experiment);
+    ShardPlan plan = read_shard_plan(options.shard_plan, experiment);
     if (plan.shards != run.shard_count) {
       throw InputError(fmt::format("--shard {}: expected n = {}, the shards of the plan {}", options.shard, plan.shards,
                                    options.shard_plan));
@@ -82,7 +82,7 @@ int run_summarize(const std::vector<std::string>& folders, const std::string& ou
 }
 
 int run_status(const std::string& folder) {
-  SweepStatus status = sweep_status(folder);
+  SweepStatus status = sweep_status(folder, experiment_file_runs);
   if (!status.plan_problem.empty()) {
     fmt::print("warning: the shard plan is damaged ({}); counting the runs of experiment.json instead, without "
                "shards (`causticbench slurm` writes the plan again)\n",

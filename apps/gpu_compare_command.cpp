@@ -26,7 +26,7 @@ Image rgba_image(const std::vector<float>& rgba, uint32_t width, uint32_t height
 }  // namespace
 
 // The dump's method (method.txt) decides how to read the frame's size and receivers and how closely the
-// backends must agree (its FrameDumpFormat in methods/frame_dumps.cpp).
+// backends must agree (its FrameDumpFormat, registered by its folder).
 int run_gpu_compare(const std::string& folder) {
   std::string cpu_path = folder + "/cpu_irradiance.bin", gpu_path = folder + "/vulkan_irradiance.bin";
   const FrameDumpFormat* format = nullptr;

@@ -1,6 +1,6 @@
 // causticbench-gpubench: replays a frame that `causticbench render ... --dump-frame DIR` wrote on the
 // first Vulkan device (a real GPU before lavapipe), and writes its caustic irradiance and timings.
-// DIR/method.txt names the method; its FrameDumpFormat (methods/frame_dumps.cpp) reads and replays the
+// DIR/method.txt names the method; its FrameDumpFormat (registered by its folder, cmake/methods.cmake) reads and replays the
 // rest, so this file knows no method. Links only the Vulkan loader (and libstdc++ statically), so that
 // it runs on GPU machines that have none of causticbench's other dependencies. Compare with
 // `causticbench gpu-compare DIR`.
@@ -28,7 +28,7 @@ int usage(const char* program) {
                "usage: %s DUMP_DIR [--repetitions N]\n"
                "  Replays the frame in DUMP_DIR (from causticbench render --method METHOD --dump-frame DUMP_DIR)\n"
                "  on the first Vulkan device, after one warm-up, N times (default 10). DUMP_DIR/method.txt names\n"
-               "  the method; any method whose dump format is listed in methods/frame_dumps.cpp can be replayed:\n"
+               "  the method; any method whose folder registers a dump format can be replayed:\n"
                "  %s. Writes DUMP_DIR/vulkan_irradiance.bin (RGBA float32 per pixel) and DUMP_DIR/gpu_timings.json,\n"
                "  and prints the device, the median and minimum kernel time from timestamp queries, the method's\n"
                "  evaluations per second, and the facts its replay reports (docs/gpu.md).\n",

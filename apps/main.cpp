@@ -47,10 +47,7 @@ int main(int argc, char** argv) {
   render_command->add_option("--build-cache", render.build_cache,
                              "folder of stored builds (e.g. results/builds): a method that precomputes loads its build\n"
                              "from there when stored and stores it otherwise (see docs/results-format.md)");
-  std::vector<std::string> dumpable;
-  for (const MethodEntry& method : method_registry()) {
-    if (method.info().frame_dump) dumpable.push_back(method.info().name);
-  }
+  const std::vector<std::string> dumpable = methods_with_gpu_backend();
   render_command->add_option("--dump-frame", render.dump_frame,
                              "also write the frame's GPU inputs and this backend's output into DIR, for\n"
                              "causticbench-gpubench DIR and causticbench gpu-compare DIR (methods: " +

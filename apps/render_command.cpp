@@ -1,5 +1,6 @@
 #include <filesystem>
 #include <map>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -8,10 +9,11 @@
 #include "core/files.h"
 #include "core/image_statistics.h"
 #include "core/parallel.h"
-#include "experiments/result_store.h"
 #include "methods/lifecycle.h"
 #include "methods/method_runner.h"
 #include "metrics/caustic_presence.h"
+#include "store/build_cache.h"
+#include "store/result_paths.h"
 
 namespace causticbench {
 
@@ -68,7 +70,8 @@ int run_render(const RenderOptions& options) {
   // Checked like --results before any work: a file there, or a folder that cannot be written, would
   // otherwise fail only after the build was computed.
   if (!options.build_cache.empty()) check_writable_folder("--build-cache", "stored builds", options.build_cache);
-  request.build_cache = options.build_cache;
+  std::optional<BuildCacheFolder> builds;
+  if (!options.build_cache.empty()) request.builds = &builds.emplace(options.build_cache);
   std::map<std::string, std::string> given;  // knob -> its --set, so that a repeated one is refused
   for (const std::string& assignment : options.assignments) {
     // The last of two would win silently: a slip in a long command line must not pass unnoticed.

@@ -13,7 +13,7 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "experiments/experiment.h"
-#include "experiments/result_store.h"
+#include "store/result_paths.h"
 #include "experiments/shard_plan.h"
 
 namespace causticbench {

@@ -1,4 +1,4 @@
-// JSON descriptions of a scene's content, for the keys of cached builds (methods/build_cache.h): a
+// JSON descriptions of a scene's content, for the keys of cached builds (store/build_cache.h): a
 // precomputation is reused exactly when the description of what determines it is unchanged. Each
 // description is canonical (nlohmann::json sorts keys; a track that never changes is written as its
 // one value) and holds what can change a photon path, and little else: a kind's unused parameters,

@@ -1,7 +1,7 @@
 // A folder filled under a temporary name next to its final path and renamed into place, so that a
 // reader never sees it half written and a process killed mid-way leaves only a staging folder that
-// remove_stale_staging() cleans up. Used for run folders (experiments/result_store.h) and builds
-// (methods/build_cache.h).
+// remove_stale_staging() cleans up. Used for run folders (store/result_paths.h) and builds
+// (store/build_cache.h).
 //
 // Replacing an existing folder (a --force rerun) is one atomic exchange of the two names
 // (renameat2 RENAME_EXCHANGE), after which the old copy sits under the staging name and is removed: a

@@ -12,37 +12,14 @@
 #include "core/hash.h"
 #include "core/scene_description.h"
 #include "experiments/capability_matrix_settings.h"
-#include "experiments/result_store.h"
+#include "experiments/method_entries.h"
+#include "store/result_paths.h"
 #include "methods/lifecycle.h"
 #include "metrics/metrics.h"
 
 namespace causticbench {
 
 namespace fs = std::filesystem;
-
-std::vector<KnobAssignment> expand_sweep(const KnobAssignment& fixed,
-                                         const std::vector<std::pair<std::string, std::vector<ParamDict::Entry>>>& sweep,
-                                         const std::vector<std::pair<std::string, std::vector<ParamDict::Entry>>>& zip) {
-  std::vector<KnobAssignment> result;
-  size_t zip_length = zip.empty() ? 1 : zip.front().second.size();
-  for (size_t i = 0; i < zip_length; ++i) {
-    KnobAssignment base = fixed;
-    for (const auto& [name, values] : zip) base[name] = values[i];
-    result.push_back(base);
-  }
-  for (const auto& [name, values] : sweep) {
-    std::vector<KnobAssignment> product;
-    for (const KnobAssignment& partial : result) {
-      for (const ParamDict::Entry& value : values) {
-        KnobAssignment next = partial;
-        next[name] = value;
-        product.push_back(next);
-      }
-    }
-    result = std::move(product);
-  }
-  return result;
-}
 
 namespace {
 
@@ -51,40 +28,6 @@ namespace {
 // bytes a name before any work (issue 30, defect 10), with room for those.
 constexpr size_t kMaximumNameLength = 100;
 
-
-using SweepLists = std::vector<std::pair<std::string, std::vector<ParamDict::Entry>>>;
-
-SweepLists read_lists(const ConfigNode& node) {
-  SweepLists lists;
-  for (const std::string& key : node.keys()) {
-    ConfigNode list = node.child(key);
-    if (!list.is_sequence() || list.size() == 0) list.fail_here("a non-empty list of values", list.describe_value());
-    std::vector<ParamDict::Entry> values;
-    for (size_t i = 0; i < list.size(); ++i) {
-      ConfigNode item = list.at(i);
-      values.push_back(ParamDict::Entry{item.as_string(), item.location()});
-    }
-    lists.push_back({key, values});
-  }
-  return lists;
-}
-
-void read_fixed(const ConfigNode& node, KnobAssignment& fixed, const MethodInfo& info, const ParamPhase* phase) {
-  for (const std::string& key : node.keys()) {
-    ConfigNode value = node.child(key);
-    if (phase) {
-      for (const ParamSpec& spec : info.params) {
-        if (spec.name == key && spec.phase != *phase) {
-          value.fail_here(fmt::format("a {} knob of '{}' here ('{}' is a {} knob: put it under `{}:` or `knobs:`)",
-                                      phase_name(*phase), info.name, key, phase_name(spec.phase), phase_name(spec.phase)),
-                          value.describe_value());
-        }
-      }
-    }
-    if (fixed.count(key)) value.fail_here("each knob given once per method entry", "'" + key + "' again");
-    fixed[key] = ParamDict::Entry{value.as_string(), value.location()};
-  }
-}
 
 nlohmann::json read_overrides(const ConfigNode& node, Scene& scene) {
   nlohmann::json applied = nlohmann::json::object();
@@ -292,7 +235,63 @@ void check_experiment_name(const ConfigNode& root, const std::string& name) {
   }
 }
 
+// Metrics: named ones, or every per-frame metric (plus flicker for animations); the primary one among them.
+void read_metrics(const ConfigNode& root, Experiment& experiment) {
+  if (std::optional<ConfigNode> metrics = root.optional_child("metrics")) {
+    // Blamed here, not on primary_metric: an empty list measures nothing.
+    if (metrics->size() == 0) {
+      metrics->fail_here("at least one metric name (or no `metrics` key: every metric)", "an empty list");
+    }
+    for (size_t i = 0; i < metrics->size(); ++i) {
+      ConfigNode item = metrics->at(i);
+      std::string name = item.as_string();
+      try {
+        find_metric(name);
+      } catch (const InputError& error) {
+        throw_input_error(item.location(), item.path(), "a metric name", std::string(error.what()));
+      }
+      if (std::find(experiment.metrics.begin(), experiment.metrics.end(), name) != experiment.metrics.end()) {
+        item.fail_here("each metric once", "'" + name + "' again");
+      }
+      experiment.metrics.push_back(name);
+    }
+  } else {
+    for (const MetricInfo& metric : metric_registry()) {
+      if (metric.per_frame || experiment.frames.size() > 1) experiment.metrics.push_back(metric.name);
+    }
+  }
+  experiment.primary_metric = root.string_or("primary_metric", "relmse");
+  if (std::find(experiment.metrics.begin(), experiment.metrics.end(), experiment.primary_metric) == experiment.metrics.end()) {
+    // Without the key the default is what is missing from `metrics`: point there, not at line 1.
+    if (!root.has("primary_metric")) {
+      root.fail("metrics", "a list that holds relmse (the default primary_metric), or a primary_metric naming one of " +
+                               join(experiment.metrics, ", "), "no relmse");
+    }
+    root.fail("primary_metric", "one of the experiment's metrics: " + join(experiment.metrics, ", "),
+              "'" + experiment.primary_metric + "'");
+  }
+}
+
+// The reference's knobs, and each variant's reference key and content hash from them.
+void read_reference(const ConfigNode& root, Experiment& experiment) {
+  ParamDict reference_dict;
+  if (std::optional<ConfigNode> reference = root.optional_child("reference")) reference_dict.set_from_config(*reference);
+  experiment.reference_params = reference_dict.resolve(find_method("reference").info().params, "reference");
+  for (SceneVariant& variant : experiment.variants) {
+    variant.content_hash = hash_json(scene_content_json(variant.scene));
+    variant.reference_key = hash_json({{"scene_hash", variant.scene_hash},
+                                       {"overrides", variant.overrides},
+                                       {"reference", experiment.reference_params.to_json()}});
+  }
+}
+
 }  // namespace
+
+std::vector<std::string> Experiment::variant_names() const {
+  std::vector<std::string> names;
+  for (const SceneVariant& variant : variants) names.push_back(variant.name);
+  return names;
+}
 
 nlohmann::json Experiment::to_json() const {
   nlohmann::json runs_json = nlohmann::json::array();
@@ -348,8 +347,6 @@ Experiment load_experiment(const std::string& path) {
   std::optional<ConfigNode> base_overrides = root.optional_child("overrides");
   if (base_overrides) base.overrides = read_overrides(*base_overrides, base.scene);
   experiment.variants = read_variants(root, base, base_overrides, path);
-  std::vector<std::string> variant_names;
-  for (const SceneVariant& variant : experiment.variants) variant_names.push_back(variant.name);
   experiment.frames = read_frames(root, experiment.variants.front().scene);
   // A variant with its own scene may have fewer frames than the first variant that `frames` was read
   // against.
@@ -370,201 +367,30 @@ Experiment load_experiment(const std::string& path) {
   }
   experiment.empty_reference_expected = root.boolean_or("empty_reference_expected", false);
 
-  // Metrics: named ones, or every per-frame metric (plus flicker for animations).
-  if (std::optional<ConfigNode> metrics = root.optional_child("metrics")) {
-    // Blamed here, not on primary_metric: an empty list measures nothing.
-    if (metrics->size() == 0) {
-      metrics->fail_here("at least one metric name (or no `metrics` key: every metric)", "an empty list");
-    }
-    for (size_t i = 0; i < metrics->size(); ++i) {
-      ConfigNode item = metrics->at(i);
-      std::string name = item.as_string();
-      try {
-        find_metric(name);
-      } catch (const InputError& error) {
-        throw_input_error(item.location(), item.path(), "a metric name", std::string(error.what()));
-      }
-      if (std::find(experiment.metrics.begin(), experiment.metrics.end(), name) != experiment.metrics.end()) {
-        item.fail_here("each metric once", "'" + name + "' again");
-      }
-      experiment.metrics.push_back(name);
-    }
-  } else {
-    for (const MetricInfo& metric : metric_registry()) {
-      if (metric.per_frame || experiment.frames.size() > 1) experiment.metrics.push_back(metric.name);
-    }
-  }
-  experiment.primary_metric = root.string_or("primary_metric", "relmse");
-  if (std::find(experiment.metrics.begin(), experiment.metrics.end(), experiment.primary_metric) == experiment.metrics.end()) {
-    // Without the key the default is what is missing from `metrics`: point there, not at line 1.
-    if (!root.has("primary_metric")) {
-      root.fail("metrics", "a list that holds relmse (the default primary_metric), or a primary_metric naming one of " +
-                               join(experiment.metrics, ", "), "no relmse");
-    }
-    root.fail("primary_metric", "one of the experiment's metrics: " + join(experiment.metrics, ", "),
-              "'" + experiment.primary_metric + "'");
-  }
-
-  ParamDict reference_dict;
-  if (std::optional<ConfigNode> reference = root.optional_child("reference")) reference_dict.set_from_config(*reference);
-  experiment.reference_params = reference_dict.resolve(find_method("reference").info().params, "reference");
-  for (SceneVariant& variant : experiment.variants) {
-    variant.content_hash = hash_json(scene_content_json(variant.scene));
-    variant.reference_key = hash_json({{"scene_hash", variant.scene_hash},
-                                       {"overrides", variant.overrides},
-                                       {"reference", experiment.reference_params.to_json()}});
-  }
+  read_metrics(root, experiment);
+  read_reference(root, experiment);
 
   // Counted before anything is expanded: a run costs a few kilobytes to resolve and hash, so a
   // mistaken sweep product (10^6, 10^9 runs) must be refused with its count, not exhaust memory.
-  const int64_t max_runs = root.integer_or("max_runs", kDefaultMaximumRuns, 1, kLargestMaximumRuns);
-  double counted_runs = 0.0;
+  RunCount count{root.integer_or("max_runs", kDefaultMaximumRuns, 1, kLargestMaximumRuns)};
   ConfigNode methods = root.child("methods");
   if (methods.size() == 0) methods.fail_here("at least one method entry", "an empty list");
-  std::set<std::string> seen;
-  for (size_t m = 0; m < methods.size(); ++m) {
-    ConfigNode entry = methods.at(m);
-    std::string method_name = entry.string("method");
-    const MethodEntry* method;
-    try {
-      method = &find_method(method_name);
-    } catch (const InputError& error) {
-      throw InputError(fmt::format("{}: {}", entry.location_of("method").describe(), error.what()));
-    }
-    const MethodInfo& info = method->info();
-    std::string label = entry.string_or("label", info.name);
-    KnobAssignment fixed;
-    for (ParamPhase phase : {ParamPhase::build, ParamPhase::frame, ParamPhase::render}) {
-      if (std::optional<ConfigNode> node = entry.optional_child(phase_name(phase))) read_fixed(*node, fixed, info, &phase);
-    }
-    if (std::optional<ConfigNode> node = entry.optional_child("knobs")) read_fixed(*node, fixed, info, nullptr);
-    SweepLists sweep, zip;
-    if (std::optional<ConfigNode> node = entry.optional_child("sweep")) sweep = read_lists(*node);
-    if (std::optional<ConfigNode> node = entry.optional_child("zip")) {
-      zip = read_lists(*node);
-      for (const auto& [name, values] : zip) {
-        if (values.size() != zip.front().second.size()) {
-          node->fail(name, fmt::format("a list of {} values, as long as '{}'", zip.front().second.size(), zip.front().first),
-                     fmt::format("{} values", values.size()));
-        }
-      }
-    }
-    std::set<std::string> varied;
-    for (const auto& list : {sweep, zip}) {
-      for (const auto& [name, values] : list) {
-        if (fixed.count(name) || varied.count(name)) {
-          throw_input_error(values.front().where, name, "each knob either fixed or swept, once", "it twice");
-        }
-        varied.insert(name);
-      }
-    }
-    // `variants`: the entry runs only on the variants it names (a per-object setting in an experiment
-    // whose variants are different objects), every variant without it.
-    std::vector<bool> on_variant(experiment.variants.size(), true);
-    if (std::optional<ConfigNode> node = entry.optional_child("variants")) {
-      const std::vector<std::string>& names = variant_names;
-      if (!node->is_sequence() || node->size() == 0) node->fail_here("a non-empty list of variant names", node->describe_value());
-      on_variant.assign(experiment.variants.size(), false);
-      for (size_t i = 0; i < node->size(); ++i) {
-        ConfigNode item = node->at(i);
-        const std::string name = item.as_string();
-        const auto found = std::find(names.begin(), names.end(), name);
-        if (found == names.end()) {
-          item.fail_here(fmt::format("the name of one of the experiment's variants ({}){}", join(names, ", "),
-                                     did_you_mean(name, names)),
-                         "'" + name + "'");
-        }
-        const size_t index = static_cast<size_t>(found - names.begin());
-        if (on_variant[index]) item.fail_here("each variant once", "'" + name + "' again");
-        on_variant[index] = true;
-      }
-    }
-    const size_t entry_variants = static_cast<size_t>(std::count(on_variant.begin(), on_variant.end(), true));
-    entry.finish();
-    double entry_runs = static_cast<double>(zip.empty() ? 1 : zip.front().second.size()) * entry_variants;
-    std::string product = fmt::format("{}", zip.empty() ? 1 : zip.front().second.size());
-    for (const auto& [name, values] : sweep) {
-      entry_runs *= static_cast<double>(values.size());
-      product += fmt::format(" x {} ({})", values.size(), name);
-    }
-    counted_runs += entry_runs;
-    if (counted_runs > static_cast<double>(max_runs)) {
-      throw_input_error(entry.has("sweep") ? entry.location_of("sweep") : entry.location(), entry.path(),
-                        fmt::format("at most max_runs = {} runs in the experiment (set `max_runs`, up to {}, to allow "
-                                    "more)", max_runs, kLargestMaximumRuns),
-                        fmt::format("{:.0f} runs up to this entry, {:.0f} of them here: {}{}", counted_runs, entry_runs,
-                                    product, entry_variants > 1 ? fmt::format(" x {} variants", entry_variants) : ""));
-    }
-    // The knobs do not depend on the variant: resolve them once, then run them on every variant.
-    std::vector<std::pair<RunSpec, std::string>> resolved;  // knobs, swept text
-    std::set<std::string> applied;  // swept knobs that apply in at least one combination
-    for (const KnobAssignment& assignment : expand_sweep(fixed, sweep, zip)) {
-      ParamDict dict;
-      for (const auto& [name, value] : assignment) dict.set(name, value.text, value.where);
-      RunSpec knobs;
-      knobs.method = info.name;
-      // A swept knob that does not apply to this combination (sh_order under storage: grid) is
-      // dropped, so the combinations it would multiply collapse into one run (same key, kept once).
-      knobs.params = dict.resolve(info.params, info.name, varied);
-      if (std::optional<BrokenKnobRule> broken = broken_knob_rule(info, knobs.params)) {
-        // Blamed on the first of its knobs this entry sets (a default breaks no rule on its own).
-        SourceLocation where = entry.location();
-        std::string key = entry.path();
-        for (const std::string& knob : broken->rule->knobs) {
-          auto set = assignment.find(knob);
-          if (set == assignment.end()) continue;
-          where = set->second.where;
-          key = entry.path() + "." + knob;
-          break;
-        }
-        throw_input_error(where, key, "knobs that agree with each other", broken->describe(info.name));
-      }
-      knobs.build = select_phase(knobs.params, info.params, ParamPhase::build);
-      knobs.frame = select_phase(knobs.params, info.params, ParamPhase::frame);
-      knobs.render = select_phase(knobs.params, info.params, ParamPhase::render);
-      std::string swept_text;
-      for (const std::string& name : varied) {
-        if (!knobs.params.has(name)) continue;
-        applied.insert(name);
-        knobs.swept[name] = format_param_value(knobs.params.values().at(name));
-        swept_text += fmt::format(" {}={}", name, knobs.swept[name]);
-      }
-      resolved.emplace_back(std::move(knobs), swept_text);
-    }
-    for (const auto& list : {sweep, zip}) {
-      for (const auto& [name, values] : list) {
-        if (applied.count(name)) continue;
-        const ParamSpec* spec = nullptr;
-        for (const ParamSpec& candidate : info.params) spec = candidate.name == name ? &candidate : spec;
-        throw_input_error(values.front().where, info.name + "." + name,
-                          fmt::format("a knob that applies to at least one run of the sweep ({})",
-                                      spec ? spec->condition_text() : "?"),
-                          "it applies to none");
-      }
-    }
-    for (size_t v = 0; v < experiment.variants.size(); ++v) {
-      if (!on_variant[v]) continue;
-      const SceneVariant& variant = experiment.variants[v];
-      for (const auto& [knobs, swept_text] : resolved) {
-        RunSpec run = knobs;
-        run.variant = v;
-        run.label = label + swept_text + (experiment.variants.size() > 1 ? " @" + variant.name : "");
-        run.spec = {{"scene_hash", variant.scene_hash}, {"overrides", variant.overrides},
-                    {"frames", experiment.frames},         {"repetitions", experiment.repetitions},
-                    {"method", info.name},                 {"params", run.params.key_json(info.params)}};
-        // Only when not 1, so that runs stored before the option keep their keys.
-        if (experiment.pixel_samples != 1) run.spec["pixel_samples"] = experiment.pixel_samples;
-        run.key = hash_json(run.spec);
-        if (!seen.insert(run.key).second) continue;  // the same run twice: keep one
-        experiment.runs.push_back(std::move(run));
-      }
-    }
-  }
-  experiment.report = read_report_settings(root, experiment.metrics, experiment.primary_metric, variant_names);
+  for (size_t m = 0; m < methods.size(); ++m) add_method_entry(methods.at(m), experiment, count);
+  experiment.report = read_report_settings(root, experiment.metrics, experiment.primary_metric, experiment.variant_names());
   if (std::optional<ConfigNode> matrix = root.optional_child("capability_matrix"))
     experiment.report.capability_matrix = read_capability_matrix(*matrix, experiment);
   root.finish();
   return experiment;
+}
+
+std::vector<std::pair<std::string, std::string>> experiment_file_runs(const std::string& path) {
+  std::vector<std::pair<std::string, std::string>> runs;
+  try {
+    for (const RunSpec& run : load_experiment(path).runs) runs.push_back({run.key, run.method});
+  } catch (const std::exception&) {
+    runs.clear();  // moved or changed beyond reading: the caller falls back on what it has
+  }
+  return runs;
 }
 
 }  // namespace causticbench

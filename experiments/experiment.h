@@ -76,6 +76,7 @@ struct Experiment {
   bool empty_reference_expected = false;
 
   nlohmann::json to_json() const;
+  std::vector<std::string> variant_names() const;
 };
 
 // An experiment expands to at most `max_runs` runs (default kDefaultMaximumRuns, at most
@@ -88,6 +89,9 @@ constexpr int64_t kLargestMaximumRuns = 2000000;
 // Reads, validates and expands an experiment file. Every defect is an InputError with file, line and
 // column, raised before any work starts.
 Experiment load_experiment(const std::string& path);
+// The runs (key, method) the experiment file at `path` expands to, in order; empty when it cannot be read.
+// What `causticbench status` names pending runs by (store/sweep_status.h).
+std::vector<std::pair<std::string, std::string>> experiment_file_runs(const std::string& path);
 
 // The expansion of one method entry: fixed knobs, cartesian `sweep` lists and paired `zip` lists.
 // Exposed for tests. Each element maps knob name -> (value text, where it came from).
@@ -114,7 +118,7 @@ void check_filter_terms(const Experiment& experiment, const std::string& filter)
 nlohmann::json record_knobs(const nlohmann::json& record);
 // --filter on a stored record.json (its method, label and record_knobs).
 bool record_matches_filter(const nlohmann::json& record, const std::string& filter);
-struct RunRecord;  // experiments/run_record.h
+struct RunRecord;  // store/run_record.h
 bool record_matches_filter(const RunRecord& record, const std::string& filter);
 
 }  // namespace causticbench

@@ -9,7 +9,7 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/progress.h"
-#include "methods/build_cache.h"
+#include "store/build_cache.h"
 #include "methods/lifecycle.h"
 #include "methods/registry.h"
 
@@ -23,6 +23,7 @@ BuildSummary prepare_missing_builds(const Experiment& experiment, const std::vec
   for (const RunSpec* run : runs) groups.insert({{run->variant, run->method + run->build.to_json().dump()}, run});
   Progress progress("builds of " + experiment.name, static_cast<double>(groups.size()));
   std::set<std::string> seen_keys;  // a build serves every variant: computed once
+  BuildCacheFolder builds(paths.builds());
   std::unique_ptr<RestPose> rest;
   size_t rest_variant = SIZE_MAX, done = 0;
   for (const auto& [group, run] : groups) {
@@ -35,7 +36,9 @@ BuildSummary prepare_missing_builds(const Experiment& experiment, const std::vec
     try {
       PrepareContext context = prepare_context(variant.scene, experiment.frames, nullptr, rest);
       method->check_scene(variant.scene);
-      std::optional<nlohmann::json> dependencies = method->build_dependencies(context, run->build);
+      BuildCache* cache = method->build_cache();
+      std::optional<nlohmann::json> dependencies;
+      if (cache) dependencies = cache->build_dependencies(context, run->build);
       if (!dependencies) {
         ++summary.uncached;
       } else {
@@ -44,7 +47,7 @@ BuildSummary prepare_missing_builds(const Experiment& experiment, const std::vec
         if (!seen_keys.insert(key).second || (stored && stored->problem.empty())) {
           ++summary.stored;
         } else {
-          PrepareOutcome outcome = prepare_method(*method, context, run->build, paths.builds());
+          PrepareOutcome outcome = prepare_method(*method, context, run->build, &builds);
           fmt::print(stderr, "build {} of {}: {} ({:.3g} s)\n", outcome.build_key, run->method, outcome.source,
                      outcome.prepare_seconds);
           ++summary.computed;

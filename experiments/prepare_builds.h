@@ -1,6 +1,6 @@
 // `causticbench run --prepare-only`: what the runs of a sweep share, computed once before the shards
 // start (the reference job of `causticbench slurm`): every missing reference frame (the runner's
-// reference check does that) and every missing build of the build cache (methods/build_cache.h). Shards
+// reference check does that) and every missing build of the build cache (store/build_cache.h). Shards
 // that started together would otherwise wait on each other's reference lock and each compute the same
 // build, the cache letting the first rename win.
 #pragma once
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "experiments/experiment.h"
-#include "experiments/result_store.h"
+#include "store/result_paths.h"
 
 namespace causticbench {
 

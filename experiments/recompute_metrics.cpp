@@ -10,10 +10,11 @@
 #include "core/files.h"
 #include "core/gbuffer.h"
 #include "core/progress.h"
-#include "experiments/result_store.h"
+#include "store/result_paths.h"
+#include "store/run_folders.h"
 #include "experiments/run_measurement.h"
-#include "experiments/store_files.h"
-#include "experiments/store_lock.h"
+#include "store/store_files.h"
+#include "store/store_lock.h"
 #include "metrics/metrics.h"
 
 namespace causticbench {

@@ -60,6 +60,17 @@ std::string frames_text(const std::vector<FramePresence>& frames) {
 
 }  // namespace
 
+VariantFrames variant_frames(const Experiment& experiment, const SceneVariant& variant, const ResultPaths& paths) {
+  const std::string label = experiment.variants.size() > 1 ? " of variant " + variant.name : "";
+  return reference_frames(ReferenceRequest{variant.scene, variant.reference_key, variant.content_hash,
+                                           experiment.reference_params, experiment.frames, label},
+                          paths);
+}
+
+bool stored_reference_content_differs(const ResultPaths& paths, const SceneVariant& variant, const std::vector<int>& frames) {
+  return stored_reference_content_differs(paths, variant.reference_key, variant.content_hash, frames);
+}
+
 ReferenceCheck check_references(const Experiment& experiment, const std::vector<const RunSpec*>& pending,
                                 const ResultPaths& paths) {
   std::set<size_t> variants;

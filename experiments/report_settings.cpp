@@ -8,7 +8,7 @@
 
 #include "core/config.h"
 #include "core/errors.h"
-#include "experiments/quantity_registry.h"
+#include "methods/quantity_registry.h"
 #include "methods/param_dict.h"
 #include "methods/registry.h"
 #include "metrics/metrics.h"

@@ -8,7 +8,7 @@
 
 #include "core/errors.h"
 #include "experiments/experiment.h"
-#include "experiments/run_record.h"
+#include "store/run_record.h"
 
 namespace causticbench {
 

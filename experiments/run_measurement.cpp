@@ -10,7 +10,7 @@
 #include <fmt/format.h>
 
 #include "core/build_info.h"
-#include "experiments/result_store.h"
+#include "store/result_paths.h"
 #include "metrics/metrics.h"
 
 namespace causticbench {

@@ -12,7 +12,7 @@
 #include "core/image.h"
 #include "experiments/experiment.h"
 #include "experiments/reference_frames.h"
-#include "experiments/run_record.h"
+#include "store/run_record.h"
 #include "methods/lifecycle.h"
 
 namespace causticbench {

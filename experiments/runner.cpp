@@ -13,13 +13,16 @@
 #include "core/files.h"
 #include "core/progress.h"
 #include "experiments/reference_frames.h"
-#include "experiments/result_store.h"
+#include "store/result_paths.h"
+#include "store/run_folders.h"
 #include "experiments/run_measurement.h"
 #include "experiments/prepare_builds.h"
 #include "experiments/run_selection.h"
 #include "experiments/shard_plan.h"
-#include "experiments/store_files.h"
-#include "experiments/store_lock.h"
+#include "store/store_files.h"
+#include "core/staging_folder.h"
+#include "store/build_cache.h"
+#include "store/result_store.h"
 #include "methods/lifecycle.h"
 #include "methods/memory_estimate.h"
 #include "methods/method_runner.h"
@@ -50,18 +53,19 @@ namespace {
 // runs that differ only in render knobs share each frame's update() within such a batch.
 constexpr size_t kRunsPerBatch = 256;
 
-void store_run(const ResultPaths& paths, const Experiment& experiment, const RunOutcome& outcome) {
+void store_run(ResultStore& store, const RunClaim& claim, const RunOutcome& outcome) {
   std::vector<std::pair<std::string, std::string>> images;
   for (const auto& [frame, image] : outcome.images) images.push_back({ResultPaths::frame_file(frame) + ".exr", encode_exr(image)});
-  store_run_folder(paths.run(experiment.name, outcome.record.key), images, outcome.record.to_json());
+  store.put(claim, images, outcome.record.to_json());
 }
 
-void store_failure(const ResultPaths& paths, const Experiment& experiment, const RunSpec& run, const std::string& error) {
+void store_failure(ResultStore& store, const RunClaim& claim, const Experiment& experiment, const RunSpec& run,
+                   const std::string& error) {
   RunOutcome outcome;
   outcome.record = run_identity(experiment, run);
   outcome.record.status = "failed";
   outcome.record.error = error;
-  store_run(paths, experiment, outcome);
+  store_run(store, claim, outcome);
 }
 
 // Pending runs grouped by (variant, method, build knobs): prepare once per group (or load the build
@@ -97,16 +101,17 @@ std::vector<Group> group_runs(const std::vector<PendingRun>& pending) {
 
 struct ClaimedRun {
   const RunSpec* run;
-  StoreLock lock;
+  RunClaim claim;
 };
 
 // Plays and stores pending runs, each only under its lock; the runs whose lock another process holds
 // are handed back, for the caller to wait for.
 class RunExecutor {
  public:
-  RunExecutor(const Experiment& experiment, const ResultPaths& paths, ReferenceCheck& references, RunSummary& summary,
+  RunExecutor(const Experiment& experiment, ResultStore& store, ReferenceCheck& references, RunSummary& summary,
               size_t pending)
-      : experiment_(experiment), paths_(paths), references_(references), summary_(summary),
+      : experiment_(experiment), store_(store), paths_(store.paths()), builds_(store.paths().builds()),
+        references_(references), summary_(summary),
         progress_(fmt::format("run {}", experiment.name), static_cast<double>(pending)) {}
 
   std::vector<PendingRun> execute(const std::vector<PendingRun>& pending) {
@@ -141,7 +146,7 @@ class RunExecutor {
           prepare_error = prepare(*method, variant, first, prepared);
         }
         if (!prepare_error.empty()) {
-          for (const ClaimedRun& run : claimed) fail(*run.run, prepare_error);
+          for (const ClaimedRun& run : claimed) fail(run, prepare_error);
           continue;
         }
         play(*method, prepared, claimed);
@@ -153,13 +158,15 @@ class RunExecutor {
   std::vector<ClaimedRun> claim(const std::vector<PendingRun>& batch, std::vector<PendingRun>& held_by_others) {
     std::vector<ClaimedRun> claimed;
     for (const PendingRun& pending : batch) {
-      std::optional<StoreLock> lock = StoreLock::try_acquire(paths_.run_lock(experiment_.name, pending.run->key));
-      if (!lock) {
+      bool held = false;
+      std::optional<RunClaim> claim =
+          store_.try_claim(run_address(experiment_, *pending.run), pending.seen, pending.replace_stored, held);
+      if (held) {
         held_by_others.push_back(pending);
-      } else if (!still_to_run(experiment_, paths_, pending)) {
+      } else if (!claim) {
         stored_by_another(*pending.run);
       } else {
-        claimed.push_back({pending.run, std::move(*lock)});
+        claimed.push_back({pending.run, std::move(*claim)});
       }
     }
     return claimed;
@@ -183,7 +190,7 @@ class RunExecutor {
       auto zero = frames_.posed.find(0);
       const PosedFrame* frame_zero = zero == frames_.posed.end() ? nullptr : zero->second.get();
       prepared = prepare_method(method, prepare_context(variant.scene, experiment_.frames, frame_zero, rest_), first.build,
-                                paths_.builds());
+                                &builds_);
       if (!prepared.build_key.empty()) {
         fmt::print(stderr, "build {} of {}: {} ({:.3g} s to compute{})\n", prepared.build_key, first.method, prepared.source,
                    prepared.prepare_seconds,
@@ -208,7 +215,7 @@ class RunExecutor {
       outputs = play_sequence(method, frames_.sequence(experiment_.frames), first.frame, render_sets,
                               TimingProtocol{true, experiment_.repetitions, experiment_.pixel_samples});
     } catch (const std::exception& error) {
-      for (const ClaimedRun& run : claimed) fail(*run.run, error.what());
+      for (const ClaimedRun& run : claimed) fail(run, error.what());
       return;
     }
     for (size_t r = 0; r < claimed.size(); ++r) {
@@ -216,7 +223,7 @@ class RunExecutor {
       try {
         RunOutcome outcome =
             measure_run(experiment_, run, method, prepared, std::move(outputs[r]), frames_, empty_reference);
-        store_run(paths_, experiment_, outcome);
+        store_run(store_, claimed[r].claim, outcome);
         if (outcome.record.ok()) {
           ++summary_.completed;
         } else {
@@ -227,20 +234,23 @@ class RunExecutor {
       } catch (const WriteError&) {
         throw;
       } catch (const std::exception& error) {
-        fail(run, error.what());
+        fail(claimed[r], error.what());
       }
     }
   }
 
-  void fail(const RunSpec& run, const std::string& error) {
-    store_failure(paths_, experiment_, run, error);
+  void fail(const ClaimedRun& claimed, const std::string& error) {
+    const RunSpec& run = *claimed.run;
+    store_failure(store_, claimed.claim, experiment_, run, error);
     ++summary_.failed;
     fmt::print(stderr, "run {} failed: {}\n", run.label, error);
     progress_.update(static_cast<double>(++done_), run.label);
   }
 
   const Experiment& experiment_;
+  ResultStore& store_;
   const ResultPaths& paths_;
+  BuildCacheFolder builds_;
   ReferenceCheck& references_;
   RunSummary& summary_;
   Progress progress_;
@@ -295,7 +305,8 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& given_
   // What killed processes left is finished or undone first: a replacement interrupted between its two
   // renames must not make its run look pending (core/staging_folder.h).
   remove_stale_staging(runs_folder);
-  RunSelection selection = select_runs(experiment, options, paths);
+  ResultStore store(paths, experiment.name, experiment.frames);
+  RunSelection selection = select_runs(experiment, options, store);
   summary.selected = selection.selected;
   // What this machine cannot hold is refused before anything else, --dry-run included.
   check_memory(experiment, selection.pending);
@@ -309,7 +320,7 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& given_
   ReferenceCheck references = check_references(experiment, specs(selection.pending), paths);
   std::vector<size_t> checked_variants;
   for (const PendingRun& entry : selection.pending) checked_variants.push_back(entry.run->variant);
-  recheck_against_references(experiment, paths, checked_variants, selection);
+  recheck_against_references(experiment, checked_variants, store, selection);
   summary.stored = selection.stored;
   if (options.prepare_only) {
     BuildSummary builds = prepare_missing_builds(experiment, specs(selection.pending), paths);
@@ -325,7 +336,7 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& given_
   write_text_atomically((fs::path(folder) / "environment.json").string(), environment.dump(2) + "\n");
   write_text_atomically((fs::path(folder) / "experiment.json").string(), experiment.to_json().dump(2) + "\n");
 
-  RunExecutor executor(experiment, paths, references, summary, selection.pending.size());
+  RunExecutor executor(experiment, store, references, summary, selection.pending.size());
   std::vector<PendingRun> to_do = std::move(selection.pending);
   while (!to_do.empty()) {
     std::vector<PendingRun> held_by_others = executor.execute(to_do);
@@ -333,9 +344,8 @@ RunSummary run_experiment(const Experiment& experiment, const RunOptions& given_
     // Each waited for in turn, holding no other lock meanwhile (so that no two processes wait for each
     // other); one whose holder ended without storing it is run here after all.
     for (const PendingRun& pending : held_by_others) {
-      StoreLock lock = StoreLock::acquire(paths.run_lock(experiment.name, pending.run->key),
-                                          fmt::format("run {} ({})", pending.run->label, pending.run->key));
-      if (still_to_run(experiment, paths, pending)) to_do.push_back(pending);
+      // The claim is given up again at once: the run is claimed anew with the others of its batch.
+      if (store.claim(run_address(experiment, *pending.run), pending.seen, pending.replace_stored)) to_do.push_back(pending);
       else executor.stored_by_another(*pending.run);
     }
   }

@@ -18,44 +18,18 @@
 // declares its own estimate yet: the model is the fallback the issue allows.
 #pragma once
 
-#include <map>
-#include <string>
-#include <vector>
-
-#include <nlohmann/json.hpp>
-
 #include "experiments/experiment.h"
-#include "experiments/result_store.h"
+#include "store/result_paths.h"
+#include "store/shard_plan_file.h"
 
 namespace causticbench {
-
-struct PlannedRun {
-  std::string key, method, label;
-  size_t group = 0;  // index of its prepare() group
-  int shard = 0;
-  double estimated_seconds = 0.0;  // 0 for a stored run
-  bool stored = false;             // stored when planned: the shard skips it
-};
-
-struct ShardPlan {
-  std::string experiment;
-  int shards = 1;
-  std::vector<PlannedRun> runs;          // in the experiment's order
-  std::vector<double> shard_seconds;     // estimated cost per shard of the runs still to do
-  size_t timed_runs = 0;                 // stored runs whose timings scaled the estimates
-  std::map<std::string, int> shard_of;   // run key -> shard
-
-  nlohmann::json to_json() const;
-};
 
 // `paths` == nullptr: from the experiment alone (what `run --shard i/n` without a plan uses).
 ShardPlan plan_shards(const Experiment& experiment, int shards, const ResultPaths* paths);
 
-// <results>/<experiment>/slurm/shard-plan.json: where `causticbench slurm` writes the plan.
-std::string shard_plan_path(const ResultPaths& paths, const std::string& experiment_name);
-void write_shard_plan(const std::string& path, const ShardPlan& plan);
-// InputError (file, key) when it cannot be read, is for another experiment, or does not name every run
-// of the experiment exactly once (the experiment changed since it was planned: plan it again).
-ShardPlan read_shard_plan(const std::string& path, const Experiment* experiment = nullptr);
+// The plan file (store/shard_plan_file.h) checked against the experiment: InputError (file, key) when it
+// cannot be read, is for another experiment, or does not name every run of the experiment exactly once
+// (the experiment changed since it was planned: plan it again).
+ShardPlan read_shard_plan(const std::string& path, const Experiment& experiment);
 
 }  // namespace causticbench

@@ -1,6 +1,6 @@
 // The method-independent side of `causticbench render --dump-frame DIR`: DIR/method.txt names the
-// method whose format holds the rest of the folder, and each method that can dump a frame lists a
-// FrameDumpFormat (methods/frame_dumps.cpp) that reads the folder's size and receivers and replays the
+// method whose format holds the rest of the folder, and each method that can dump a frame registers a
+// FrameDumpFormat (causticbench_add_gpu_backend, cmake/methods.cmake) that reads the folder's size and receivers and replays the
 // frame on a Vulkan device. causticbench-gpubench and `causticbench gpu-compare` know only this header,
 // so a new method adds its replay without touching them. Depends only on the C++ standard library
 // (and declares gpu::Context), because causticbench-gpubench links nothing but the Vulkan loader.
@@ -80,7 +80,8 @@ struct FrameDumpFormat {
   std::unique_ptr<FrameReplay> (*replay)(gpu::Context& context, const std::string& folder) = nullptr;
 };
 
-// Every method's format, one line each in methods/frame_dumps.cpp.
+// Every method's format, in the frame_dump_formats.cpp that cmake/methods.cmake generates from the method
+// folders' causticbench_add_gpu_backend calls.
 const std::vector<FrameDumpFormat>& frame_dump_formats();
 // Throws std::runtime_error listing the known formats when `method` has none.
 const FrameDumpFormat& frame_dump_format(const std::string& method);

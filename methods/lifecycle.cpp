@@ -6,9 +6,6 @@
 
 #include <fmt/format.h>
 
-#include "core/files.h"
-#include "core/staging_folder.h"
-#include "methods/build_cache.h"
 
 namespace causticbench {
 
@@ -18,6 +15,12 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// The last render's kernel time, for a method with a GPU backend whose last render ran there.
+std::optional<double> gpu_milliseconds(CausticMethod& method) {
+  GpuBackend* gpu = method.gpu();
+  return gpu ? gpu->gpu_render_milliseconds() : std::nullopt;
+}
 
 // One render per sub-pixel G-buffer, each zero where its own point sees no receiver, averaged; the
 // times (and GPU times, where every sample has one) summed.
@@ -31,7 +34,7 @@ Image render_subpixels(CausticMethod& method, const PosedFrame& posed, const Par
     auto start = Clock::now();
     Image image = method.render(buffer, render_knobs);
     render_ms += seconds_since(start) * 1e3;
-    std::optional<double> gpu = method.gpu_render_milliseconds();
+    std::optional<double> gpu = gpu_milliseconds(method);
     every_gpu = every_gpu && gpu.has_value();
     if (gpu) gpu_sum += *gpu;
     buffer.clear_outside_receivers(image);
@@ -77,11 +80,12 @@ PrepareContext prepare_context(const Scene& scene, const std::vector<int>& frame
 }
 
 PrepareOutcome prepare_method(CausticMethod& method, const PrepareContext& context, const ParamSet& build,
-                              const std::string& build_cache) {
+                              BuildStore* builds) {
   PrepareOutcome outcome;
   method.check_scene(context.scene);
+  BuildCache* cache = builds ? method.build_cache() : nullptr;
   std::optional<nlohmann::json> dependencies;
-  if (!build_cache.empty()) dependencies = method.build_dependencies(context, build);
+  if (cache) dependencies = cache->build_dependencies(context, build);
   if (!dependencies) {
     auto start = Clock::now();
     method.prepare(context, build);
@@ -89,17 +93,15 @@ PrepareOutcome prepare_method(CausticMethod& method, const PrepareContext& conte
     return outcome;
   }
   const std::string& name = method.info().name;
-  outcome.build_key = build_cache_key(name, *dependencies);
-  fs::create_directories(build_cache);
-  remove_stale_staging(build_cache);
-  if (std::optional<StoredBuild> stored = find_stored_build(build_cache, outcome.build_key, name, *dependencies)) {
+  outcome.build_key = builds->key(name, *dependencies);
+  if (std::optional<BuildStore::Found> stored = builds->find(name, outcome.build_key, *dependencies)) {
     std::string problem = stored->problem;
     if (problem.empty()) {
       try {
         auto start = Clock::now();
-        method.load_build(context, build, stored->folder);
+        cache->load_build(context, build, stored->folder);
         outcome.load_seconds = seconds_since(start);
-        outcome.prepare_seconds = stored->record["prepare_seconds"].get<double>();
+        outcome.prepare_seconds = stored->prepare_seconds;
         outcome.source = "loaded";
         return outcome;
       } catch (const std::runtime_error& error) {
@@ -115,24 +117,8 @@ PrepareOutcome prepare_method(CausticMethod& method, const PrepareContext& conte
   method.prepare(context, build);
   outcome.prepare_seconds = seconds_since(start);
   start = Clock::now();
-  fs::path final_folder = fs::path(build_cache) / outcome.build_key;
-  StagingFolder staging(final_folder.string());
-  method.save_build(staging.path());
-  nlohmann::json record = {{"method", name},
-                           {"version", kBuildCacheVersion},
-                           {"key", outcome.build_key},
-                           {"dependencies", *dependencies},
-                           {"build", build.to_json()},
-                           {"files", build_file_checksums(staging.path())},
-                           {"prepare_seconds", outcome.prepare_seconds}};
-  // build.json last: a folder without it is incomplete and never read.
-  write_text_atomically((fs::path(staging.path()) / "build.json").string(), record.dump(2) + "\n");
-  if (outcome.source == "recomputed") {
-    staging.commit();  // replaces the unreadable one
-  } else if (!staging.commit_if_absent()) {
-    // Another process stored the same build while we computed it; ours is identical in content
-    // (same dependencies), so theirs serves: nothing to do.
-  }
+  builds->put(name, outcome.build_key, *dependencies, build, outcome.prepare_seconds, outcome.source == "recomputed",
+              [&](const std::string& folder) { cache->save_build(folder); });
   outcome.save_seconds = seconds_since(start);
   return outcome;
 }
@@ -161,7 +147,7 @@ std::vector<SequenceOutput> play_sequence(CausticMethod& method, const std::vect
           start = Clock::now();
           image = method.render(posed.gbuffer, render_sets[r]);
           render_ms = seconds_since(start) * 1e3;
-          gpu_ms = method.gpu_render_milliseconds();
+          gpu_ms = gpu_milliseconds(method);
         } else {
           image = render_subpixels(method, posed, render_sets[r], protocol.pixel_samples, render_ms, gpu_ms);
         }

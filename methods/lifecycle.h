@@ -13,6 +13,7 @@
 
 #include "core/gbuffer.h"
 #include "core/tracer.h"
+#include "methods/build_store.h"
 #include "methods/method.h"
 
 namespace causticbench {
@@ -64,11 +65,11 @@ struct PrepareOutcome {
   std::string warning;              // why a stored build was recomputed
 };
 
-// check_scene(), then prepare(): when `build_cache` names a folder (results/builds) and the method
-// declares build_dependencies() for this scene and these knobs, its build is loaded from
-// <build_cache>/<key>/ if stored and computed and stored otherwise (methods/build_cache.h).
+// check_scene(), then prepare(): when `builds` is given (store/build_cache.h keeps them in
+// results/builds) and the method has the BuildCache facet with build_dependencies() for this scene and
+// these knobs, its build is loaded from there if stored, and computed and stored otherwise.
 PrepareOutcome prepare_method(CausticMethod& method, const PrepareContext& context, const ParamSet& build,
-                              const std::string& build_cache = "");
+                              BuildStore* builds = nullptr);
 
 // Timing protocol: `warm_up` plays the whole sequence once untimed; then `repetitions` timed passes
 // each play it frame after frame, as an animation would (so a new light direction every frame costs

@@ -62,9 +62,6 @@ struct MethodInfo {
   std::string summary;
   std::vector<ParamSpec> params;
   Capabilities capabilities;
-  // Whether `causticbench render --dump-frame` can write this method's frame for causticbench-gpubench
-  // (its replay is listed in methods/frame_dumps.cpp).
-  bool frame_dump = false;
   // Knobs ("name=value") that make a run cheap enough for the conformance tests on tiny scenes
   // (tests/test_conformance.cpp): few photons, few samples.
   std::vector<std::string> quick_knobs;
@@ -116,6 +113,39 @@ struct FrameContext {
   const Tracer& tracer;
 };
 
+// A facet: a build worth keeping between processes (methods/build_store.h; the lifecycle driver stores it
+// through store/build_cache.h). A method whose prepare() does costly work returns what that work depends
+// on: the specular objects' geometry and materials, the light directions, the build knobs; never the
+// camera, the receivers or the variant. Its hash with the method's name is the build's key.
+class BuildCache {
+ public:
+  virtual ~BuildCache() = default;
+  // std::nullopt: nothing worth storing for this scene and these knobs.
+  virtual std::optional<nlohmann::json> build_dependencies(const PrepareContext& context, const ParamSet& build) const = 0;
+  // Writes the prepared build into an empty `folder`; load_build() reads it back in place of prepare()
+  // and leaves the method exactly as prepare() would have (renders bit-identically). Throws
+  // std::runtime_error on a defect (the cache then recomputes).
+  virtual void save_build(const std::string& folder) const = 0;
+  virtual void load_build(const PrepareContext& context, const ParamSet& build, const std::string& folder) = 0;
+};
+
+// A facet: a GPU backend. Having it is what makes a method's frame dumpable for causticbench-gpubench
+// (`render --dump-frame`); its replay is registered by the method folder's CMakeLists.txt
+// (causticbench_add_gpu_backend, docs/gpu.md).
+class GpuBackend {
+ public:
+  virtual ~GpuBackend() = default;
+  // The kernel time of the last render() from timestamp queries, in milliseconds; none when that render
+  // ran on the CPU.
+  virtual std::optional<double> gpu_render_milliseconds() const = 0;
+  // Throws InputError when dump_frame could not write a frame with these knobs (all phases), so that
+  // `--dump-frame` is refused before any work starts.
+  virtual void check_frame_dump(const ParamSet& knobs) const {}
+  // Writes the last rendered frame's GPU inputs and this backend's output into `folder`.
+  virtual void dump_frame(const GBuffer& gbuffer, const ParamSet& render, const Image& output,
+                          const std::string& folder) const = 0;
+};
+
 class CausticMethod {
  public:
   virtual ~CausticMethod() = default;
@@ -138,30 +168,13 @@ class CausticMethod {
   virtual std::vector<MemoryTerm> knob_memory(const PrepareContext& context, const ParamSet& knobs) const { return {}; }
   // Method-specific facts for the run record (e.g. the reference's estimated error).
   virtual nlohmann::json record() const { return nlohmann::json::object(); }
-  // GPU backends: the kernel time of the last render() from timestamp queries, in milliseconds.
-  virtual std::optional<double> gpu_render_milliseconds() const { return std::nullopt; }
 
-  // The build cache (methods/build_cache.h). A method whose prepare() does costly work returns what
-  // that work depends on: the specular objects' geometry and materials, the light directions, the
-  // build knobs; never the camera, the receivers or the variant. Its hash with the method's name is
-  // the build's key. std::nullopt (the default): nothing worth storing for this scene and these knobs.
-  virtual std::optional<nlohmann::json> build_dependencies(const PrepareContext& context, const ParamSet& build) const {
-    return std::nullopt;
-  }
-  // Writes the prepared build into an empty `folder`; load_build() reads it back in place of
-  // prepare() and leaves the method exactly as prepare() would have (renders bit-identically).
-  // Throws std::runtime_error on a defect (the cache then recomputes).
-  virtual void save_build(const std::string& folder) const {}
-  virtual void load_build(const PrepareContext& context, const ParamSet& build, const std::string& folder) {
-    prepare(context, build);
-  }
-  // Writes the last rendered frame's GPU inputs and this backend's output into `folder` (methods whose
-  // MethodInfo::frame_dump is set).
-  virtual void dump_frame(const GBuffer& gbuffer, const ParamSet& render, const Image& output,
-                          const std::string& folder) const {}
-  // Throws InputError when dump_frame could not write a frame with these knobs (all phases), so that
-  // `--dump-frame` is refused before any work starts.
-  virtual void check_frame_dump(const ParamSet& knobs) const {}
+  // Optional facets (nullptr: the method has none). A method that has one derives from it too and returns
+  // `this`; the lifecycle driver, the runner and `render` ask for the facet rather than for optional
+  // virtuals of every method.
+  virtual BuildCache* build_cache() { return nullptr; }
+  virtual GpuBackend* gpu() { return nullptr; }
 };
+
 
 }  // namespace causticbench

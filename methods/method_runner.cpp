@@ -28,17 +28,13 @@ CheckedRequest check_request(const RenderRequest& request) {
                                  request.frame, request.scene->frames - 1, request.scene->frames,
                                  request.scene->source));
   }
-  if (!request.dump_folder.empty() && !info.frame_dump) {
-    std::vector<std::string> able;
-    for (const MethodEntry& method : method_registry()) {
-      if (method.info().frame_dump) able.push_back(method.info().name);
-    }
-    throw InputError(fmt::format("--dump-frame: expected a method that can dump its frame ({}), found '{}'",
-                                 join(able, ", "), info.name));
-  }
   std::unique_ptr<CausticMethod> method = checked.method->create();
+  if (!request.dump_folder.empty() && !method->gpu()) {
+    throw InputError(fmt::format("--dump-frame: expected a method that can dump its frame ({}), found '{}'",
+                                 join(methods_with_gpu_backend(), ", "), info.name));
+  }
   method->check_scene(*request.scene);
-  if (!request.dump_folder.empty()) method->check_frame_dump(checked.params);
+  if (!request.dump_folder.empty()) method->gpu()->check_frame_dump(checked.params);
   const Camera& camera = request.scene->camera;
   const RestPose rest(*request.scene, {request.frame});
   check_memory_fits(estimate_run_memory(camera.width, camera.height, *method, rest.context(), checked.params),
@@ -55,7 +51,7 @@ FrameResult run_frame(const RenderRequest& request, const CheckedRequest& checke
   const std::vector<int> frames = {request.frame};
   std::unique_ptr<RestPose> rest;
   result.prepare =
-      prepare_method(*method, prepare_context(*request.scene, frames, &posed, rest), knobs.build, request.build_cache);
+      prepare_method(*method, prepare_context(*request.scene, frames, &posed, rest), knobs.build, request.builds);
   result.timings.prepare_seconds = result.prepare.prepare_seconds;
   std::vector<SequenceOutput> outputs =
       play_sequence(*method, {&posed}, knobs.frame, {knobs.render}, TimingProtocol{false, 1, request.pixel_samples});
@@ -68,7 +64,7 @@ FrameResult run_frame(const RenderRequest& request, const CheckedRequest& checke
   result.memory_bytes = method->memory_bytes();
   result.counters = method->counters();
   result.method_record = method->record();
-  if (!request.dump_folder.empty()) method->dump_frame(result.gbuffer, knobs.render, result.caustic, request.dump_folder);
+  if (!request.dump_folder.empty()) method->gpu()->dump_frame(result.gbuffer, knobs.render, result.caustic, request.dump_folder);
   if (direct) *direct = direct_irradiance(posed.tracer, result.gbuffer, direct_samples, 12345);
   return result;
 }

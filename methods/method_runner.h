@@ -27,7 +27,7 @@ struct RenderRequest {
   ParamDict params;
   int frame = 0;
   std::string dump_folder;  // --dump-frame: the method writes its GPU inputs and output here
-  std::string build_cache;  // a build cache folder (results/builds), or "" for none
+  BuildStore* builds = nullptr;  // the build cache (store/build_cache.h on results/builds), or none
   int pixel_samples = 1;    // TimingProtocol::pixel_samples
 };
 

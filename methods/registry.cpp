@@ -64,4 +64,11 @@ const MethodEntry& find_method(const std::string& name) {
 
 std::unique_ptr<CausticMethod> create_method(const std::string& name) { return find_method(name).create(); }
 
+std::vector<std::string> methods_with_gpu_backend() {
+  std::vector<std::string> names;
+  for (const MethodEntry& method : method_registry())
+    if (method.create()->gpu()) names.push_back(method.info().name);
+  return names;
+}
+
 }  // namespace causticbench

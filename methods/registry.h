@@ -20,6 +20,9 @@ std::vector<std::string> method_names();
 // Throws InputError naming the known methods (with "did you mean") for an unknown name.
 const MethodEntry& find_method(const std::string& name);
 std::unique_ptr<CausticMethod> create_method(const std::string& name);
+// The registered methods that have a GPU backend (CausticMethod::gpu()): those whose frame `render
+// --dump-frame` can write. Asks a fresh instance of each (constructors do no work).
+std::vector<std::string> methods_with_gpu_backend();
 
 // For tests: adds a method to the registry (after the built-in ones) until destroyed, so that a test
 // can drive a synthetic method through experiments and the runner. Not for built-in methods: those

@@ -1,7 +1,7 @@
 // What a run measures, as one kind of thing: every metric (metrics.h), every timing and size the runner
 // records, and every counter a method declares (MethodInfo::counters), each with its unit and which way
 // is better. Claims, run filters, tables, Pareto fronts, trade-off plots and the equal-time and
-// equal-error views all take their quantities from here (experiments/quantity_registry.h assembles
+// equal-error views all take their quantities from here (methods/quantity_registry.h assembles
 // the full list with the methods' counters); docs/metrics.md, "Quantities", lists them.
 #pragma once
 
@@ -25,7 +25,7 @@ enum class QuantityDirection {
   none,    // a property of the scene, not of the method's quality or cost (receiver_pixels): no ranking
 };
 
-// Where a run record holds the value (experiments/run_record.h, RunRecord::quantity).
+// Where a run record holds the value (store/run_record.h, RunRecord::quantity).
 enum class QuantitySource {
   metrics,   // "metrics": the mean over frames (or the sequence's value)
   timings,   // "timings": the median over timed passes (`field` names it, e.g. frame_ms_median)
@@ -46,7 +46,7 @@ struct QuantityInfo {
 };
 
 // The metrics and the runner's own timings and sizes, in the order reports list them; the methods'
-// counters are added by quantity_registry() (experiments/quantity_registry.h).
+// counters are added by quantity_registry() (methods/quantity_registry.h).
 const std::vector<QuantityInfo>& measured_quantities();
 
 // A counter a method declares in its MethodInfo: a cost, so lower is better.

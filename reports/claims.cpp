@@ -17,7 +17,7 @@ namespace causticbench::report_detail {
 
 namespace {
 
-// A claim's quantity of a run (experiments/quantity_registry.h): a metric, timing (median), size or counter.
+// A claim's quantity of a run (methods/quantity_registry.h): a metric, timing (median), size or counter.
 std::optional<double> claim_value(const Run& run, const std::string& name) {
   std::optional<double> value = run.quantity(name);
   return finite(value) ? value : std::nullopt;

@@ -9,7 +9,7 @@
 #include <set>
 
 #include "core/errors.h"
-#include "experiments/record_check.h"
+#include "store/record_check.h"
 #include "experiments/report_settings.h"
 #include "reports/report_parts.h"
 
@@ -144,7 +144,7 @@ void load_report(Report& report, const std::string& folder_text) {
     run.key = key;
     try {
       json stored = read_json(path);
-      // The store's own check (experiments/record_check.h): a damaged record is never shown as ok.
+      // The store's own check (store/record_check.h): a damaged record is never shown as ok.
       std::string problem = run_record_problem(stored, (folder / "runs" / key).string());
       if (!problem.empty()) throw InputError(fmt::format("damaged record {}: {}", path.string(), problem));
       run.record = RunRecord::from_json(stored);

@@ -9,7 +9,7 @@
 // and then the writers (markdown_writer.cpp, html_writer.cpp, csv_writer.cpp, json_writer.cpp) turn it
 // into files, with the tables (tables.cpp), the summary (findings.cpp) and the claims' evidence
 // (claim_evidence.cpp) they share. The functions between these parts: report_parts.h; the helpers
-// all of them use: report_text.h (JSON members, numbers as text, escaping) and experiments/quantity_registry.h (directions).
+// all of them use: report_text.h (JSON members, numbers as text, escaping) and methods/quantity_registry.h (directions).
 // Internal to reports/; the public interface is reports/report.h.
 #pragma once
 
@@ -22,11 +22,11 @@
 #include <string>
 #include <vector>
 
-#include "experiments/result_store.h"
-#include "experiments/run_record.h"
+#include "store/result_paths.h"
+#include "store/run_record.h"
 #include "metrics/metrics.h"
 #include "reports/cost_views.h"
-#include "experiments/quantity_registry.h"
+#include "methods/quantity_registry.h"
 #include "reports/claim_verdicts.h"
 #include "reports/report_text.h"
 
@@ -76,7 +76,7 @@ struct Run {
     auto found = record.metrics_undefined.find(name);
     return found == record.metrics_undefined.end() ? "" : found->second;
   }
-  // Any registered quantity (experiments/quantity_registry.h); a metric through metric() above.
+  // Any registered quantity (methods/quantity_registry.h); a metric through metric() above.
   std::optional<double> quantity(const std::string& name) const {
     if (metric_info(name)) return metric(name);
     return record.quantity(name);

@@ -10,7 +10,7 @@
 #include <fstream>
 
 #include "core/errors.h"
-#include "experiments/result_store.h"
+#include "store/result_paths.h"
 
 namespace causticbench::report_detail {
 

@@ -14,7 +14,8 @@
 #include <vector>
 
 #include "experiments/experiment.h"
-#include "experiments/result_store.h"
+#include "store/result_paths.h"
+#include "store/run_folders.h"
 #include "tests/reliability/store_harness.h"
 #include "tests/test_support.h"
 

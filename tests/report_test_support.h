@@ -19,7 +19,7 @@
 
 #include "core/errors.h"
 #include "core/image.h"
-#include "experiments/run_record.h"
+#include "store/run_record.h"
 #include "metrics/metrics.h"
 #include "reports/report.h"
 #include "tests/test_support.h"
@@ -272,7 +272,7 @@ class ReportTest : public ::testing::Test {
   }
 
   // runs/<key>/record.json (and the frame of an ok run), built as the experiment runner builds it
-  // (experiments/run_record.h). Like a record from before scene variants, it names no variant or
+  // (store/run_record.h). Like a record from before scene variants, it names no variant or
   // reference: the report assigns the experiment's.
   RunRecord fake_record(const FakeRun& run) const {
     RunRecord record;

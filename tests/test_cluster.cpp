@@ -23,8 +23,8 @@
 #include "experiments/experiment.h"
 #include "experiments/run_measurement.h"
 #include "experiments/shard_plan.h"
-#include "experiments/store_lock.h"
-#include "experiments/sweep_status.h"
+#include "store/store_lock.h"
+#include "store/sweep_status.h"
 #include "tests/cluster_test_support.h"
 
 using namespace causticbench;
@@ -172,10 +172,10 @@ TEST(ShardPlans, PlanOfAnotherSweepIsRefused) {
   Experiment experiment = folder.experiment();
   ResultPaths paths{folder.results};
   write_shard_plan(folder.path("plan.json"), plan_shards(experiment, 2, &paths));
-  EXPECT_EQ(read_shard_plan(folder.path("plan.json"), &experiment).shard_of.size(), 6u);
+  EXPECT_EQ(read_shard_plan(folder.path("plan.json"), experiment).shard_of.size(), 6u);
   Experiment changed = load_experiment(
       folder.write("changed.yaml", causticbench::testing::replace_once(kClusterSweep, "k: [10, 20]", "k: [10, 30]")));
-  std::string message = causticbench::testing::input_error_message([&] { read_shard_plan(folder.path("plan.json"), &changed); });
+  std::string message = causticbench::testing::input_error_message([&] { read_shard_plan(folder.path("plan.json"), changed); });
   EXPECT_NE(message.find("plan it again"), std::string::npos) << message;
   Finished finished = folder.run({"--shard", "0/3", "--shard-plan", folder.path("plan.json")});
   EXPECT_EQ(finished.code, 2) << finished.output;
@@ -222,7 +222,7 @@ TEST(ShardPlans, KilledShardResubmittedFinishesWithNothingLostOrDuplicated) {
   Experiment experiment = folder.experiment();
   ASSERT_EQ(folder.command({"slurm", folder.file, "--results", folder.results, "--shards", "3"}).code, 0);
   const std::string plan_path = folder.results + "/sweep/slurm/shard-plan.json";
-  ShardPlan plan = read_shard_plan(plan_path, &experiment);
+  ShardPlan plan = read_shard_plan(plan_path, experiment);
   std::vector<std::string> shard_keys;  // in the order the shard plays them: the experiment's
   for (const PlannedRun& run : plan.runs)
     if (run.shard == 1) shard_keys.push_back(run.key);
@@ -265,7 +265,7 @@ TEST(SweepStatusCommand, IncompleteCompleteAndFailed) {
   Experiment experiment = folder.experiment();
   ASSERT_EQ(folder.command({"slurm", folder.file, "--results", folder.results, "--shards", "2"}).code, 0);
   const std::string plan_path = folder.results + "/sweep/slurm/shard-plan.json";
-  ShardPlan plan = read_shard_plan(plan_path, &experiment);
+  ShardPlan plan = read_shard_plan(plan_path, experiment);
   const std::string sweep = folder.results + "/sweep";
 
   Finished none = folder.command({"status", sweep});
@@ -295,7 +295,7 @@ TEST(SweepStatusCommand, IncompleteCompleteAndFailed) {
   failed.status = "failed";
   failed.error = "prepare() threw";
   store_run_folder(ResultPaths{folder.results}.run("sweep", experiment.runs[2].key), {}, failed.to_json());
-  SweepStatus status = sweep_status(sweep);
+  SweepStatus status = sweep_status(sweep, experiment_file_runs);
   EXPECT_EQ(status.all.ok, 5u);
   EXPECT_EQ(status.all.failed, 1u);
   EXPECT_EQ(status.methods.at("photon_map").failed, 1u);
@@ -310,7 +310,7 @@ TEST(SweepStatusCommand, IncompleteCompleteAndFailed) {
 TEST(SweepStatusCommand, WithoutAPlanFromExperimentJson) {
   SweepFolder folder("status_no_plan");
   ASSERT_EQ(folder.run({"--filter", "photons=1000"}).code, 0);
-  SweepStatus status = sweep_status(folder.results + "/sweep");
+  SweepStatus status = sweep_status(folder.results + "/sweep", experiment_file_runs);
   EXPECT_EQ(status.all.total, 6u);
   EXPECT_EQ(status.all.ok, 2u);
   EXPECT_EQ(status.all.pending, 4u);

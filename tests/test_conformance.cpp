@@ -16,7 +16,7 @@
 
 #include "core/files.h"
 #include "core/parallel.h"
-#include "methods/build_cache.h"
+#include "store/build_cache.h"
 #include "methods/describe.h"
 #include "methods/frame_dump.h"
 #include "methods/lifecycle.h"
@@ -55,7 +55,9 @@ struct Prepared {
   Prepared(const Scene& scene, const std::string& name, const ParamSet& all, const std::string& cache = "")
       : method(create_method(name)), rest(std::make_unique<RestPose>(scene, std::vector<int>{0})),
         posed(std::make_unique<PosedFrame>(scene, 0)) {
-    prepare_method(*method, rest->context(), split_phases(all, method->info().params).build, cache);
+    std::optional<BuildCacheFolder> builds;
+    if (!cache.empty()) builds.emplace(cache);
+    prepare_method(*method, rest->context(), split_phases(all, method->info().params).build, builds ? &*builds : nullptr);
   }
   Image render(const ParamSet& all) {
     PhaseKnobs phases = split_phases(all, method->info().params);
@@ -119,10 +121,13 @@ TEST_P(Conformance, CapabilityNotesNameRealCapabilities) {
   }
 }
 
-TEST_P(Conformance, FrameDumpDeclarationMatchesTheReplayFormats) {
+// A method with the GpuBackend facet can dump its frame only if its folder registered the replay that
+// gpubench reads it with (causticbench_add_gpu_backend), and a registered replay belongs to such a method.
+TEST_P(Conformance, GpuBackendFacetMatchesTheReplayFormats) {
   bool listed = false;
   for (const FrameDumpFormat& format : frame_dump_formats()) listed = listed || format.method == info().name;
-  EXPECT_EQ(info().frame_dump, listed) << "MethodInfo::frame_dump and methods/frame_dumps.cpp disagree";
+  EXPECT_EQ(create_method(info().name)->gpu() != nullptr, listed)
+      << "the GpuBackend facet and the formats registered by causticbench_add_gpu_backend disagree";
 }
 
 // Output has the G-buffer's size, is finite and non-negative, and zero off the receivers, on every
@@ -236,7 +241,9 @@ TEST_P(Conformance, SavedAndLoadedBuildRendersIdentically) {
   const PhaseKnobs phases = split_phases(all, info().params);
   std::unique_ptr<CausticMethod> probe = create_method(info().name);
   RestPose rest(scene, {0});
-  std::optional<nlohmann::json> dependencies = probe->build_dependencies(rest.context(), phases.build);
+  BuildCache* probe_cache = probe->build_cache();
+  if (!probe_cache) GTEST_SKIP() << info().name << " has no build cache facet";
+  std::optional<nlohmann::json> dependencies = probe_cache->build_dependencies(rest.context(), phases.build);
   if (!dependencies) GTEST_SKIP() << info().name << " stores no build for this scene";
 
   fs::path cache = fs::temp_directory_path() / ("causticbench_conformance_builds_" + info().name);
@@ -247,18 +254,19 @@ TEST_P(Conformance, SavedAndLoadedBuildRendersIdentically) {
   Image second = loaded.render(all);
   EXPECT_TRUE(bitwise_equal(first, second)) << "a loaded build must render as the computed one";
   std::unique_ptr<CausticMethod> check = create_method(info().name);
-  EXPECT_EQ(prepare_method(*check, rest.context(), phases.build, cache.string()).source, "loaded");
+  BuildCacheFolder builds(cache.string());
+  EXPECT_EQ(prepare_method(*check, rest.context(), phases.build, &builds).source, "loaded");
 
   // A different camera and resolution: the same build.
   Scene moved = scene_from_yaml(testing::replace_once(
       testing::replace_once(kSmallGlassSphere, "position: [0, 2.0, 2.0]", "position: [1, 3.0, 1.0]"), "resolution: [40, 40]",
       "resolution: [30, 20]"));
   RestPose moved_rest(moved, {0});
-  EXPECT_EQ(probe->build_dependencies(moved_rest.context(), phases.build), dependencies);
+  EXPECT_EQ(probe_cache->build_dependencies(moved_rest.context(), phases.build), dependencies);
   // A different glass: a different build.
   Scene other_glass = scene_from_yaml(testing::replace_once(kSmallGlassSphere, "ior: 1.5", "ior: 1.4"));
   RestPose other_rest(other_glass, {0});
-  std::optional<nlohmann::json> other = probe->build_dependencies(other_rest.context(), phases.build);
+  std::optional<nlohmann::json> other = probe_cache->build_dependencies(other_rest.context(), phases.build);
   if (other) {
     EXPECT_NE(build_cache_key(info().name, *other), build_cache_key(info().name, *dependencies));
   }
@@ -268,7 +276,7 @@ TEST_P(Conformance, SavedAndLoadedBuildRendersIdentically) {
     std::optional<std::string> value = other_value(spec, all.values().at(spec.name));
     if (!value) continue;
     ParamSet changed = split_phases(knobs({spec.name + "=" + *value}), info().params).build;
-    std::optional<nlohmann::json> changed_dependencies = probe->build_dependencies(rest.context(), changed);
+    std::optional<nlohmann::json> changed_dependencies = probe_cache->build_dependencies(rest.context(), changed);
     if (changed_dependencies) {
       EXPECT_NE(*changed_dependencies, *dependencies) << spec.name;
     }
@@ -283,7 +291,7 @@ TEST_P(Conformance, SavedAndLoadedBuildRendersIdentically) {
   }
   if (damaged == 0) return;  // a build that is all in build.json: nothing to damage
   std::unique_ptr<CausticMethod> repaired = create_method(info().name);
-  PrepareOutcome outcome = prepare_method(*repaired, rest.context(), phases.build, cache.string());
+  PrepareOutcome outcome = prepare_method(*repaired, rest.context(), phases.build, &builds);
   EXPECT_EQ(outcome.source, "recomputed");
   EXPECT_FALSE(outcome.warning.empty());
   Prepared after_repair(scene, info().name, all, cache.string());

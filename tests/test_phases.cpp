@@ -15,7 +15,7 @@
 #include "core/staging_folder.h"
 #include "experiments/experiment.h"
 #include "experiments/runner.h"
-#include "methods/build_cache.h"
+#include "store/build_cache.h"
 #include "tests/test_support.h"
 
 using namespace causticbench;

@@ -247,10 +247,9 @@ TEST(PhotonTracer, RejectsTargetsThatAreNotObjectsOnce) {
   EXPECT_TRUE(none.photons.empty());
 }
 
-// A flat mirror (reflectance 1) of area 1 under a directional light at 45 degrees, and a wall that
-// catches everything it reflects. The mirror intercepts E A cos(45) W, and all of it must be deposited.
-TEST(PhotonTracer, MirrorQuadDepositsTheFluxThroughItsProjectedArea) {
-  Scene scene = scene_from_yaml(R"(
+// A flat mirror (reflectance 1) of area 1, and a wall that catches everything it reflects under a
+// directional light at 45 degrees.
+const char* const kMirrorAndWall = R"(
 camera: {position: [3, 3, 3], look_at: [0, 0, 0], resolution: [8, 8]}
 lights: [{type: directional, direction: [0, -1, 0], irradiance: 1}]
 objects:
@@ -261,7 +260,12 @@ objects:
     shape: {type: quad, size: [10, 10]}
     material: {type: diffuse}
     transform: {translate: [-2, 2, 0], rotate: [0, 0, -90]}
-)");
+)";
+
+// A flat mirror (reflectance 1) of area 1 under a directional light at 45 degrees, and a wall that
+// catches everything it reflects. The mirror intercepts E A cos(45) W, and all of it must be deposited.
+TEST(PhotonTracer, MirrorQuadDepositsTheFluxThroughItsProjectedArea) {
+  Scene scene = scene_from_yaml(kMirrorAndWall);
   SceneFrame frame(scene, 0);
   Tracer tracer(frame);
   const int mirror = 0;
@@ -294,18 +298,7 @@ objects:
 // only those near the mirror's outline can fall either way (measured about 1/100 of the variance; asserted
 // below a tenth). The mean of 200 passes is the projected flux within four of its standard errors.
 TEST(PhotonTracer, StratifiedEmissionIsUnbiasedAndSpreadsLessThanIndependentPhotons) {
-  Scene scene = scene_from_yaml(R"(
-camera: {position: [3, 3, 3], look_at: [0, 0, 0], resolution: [8, 8]}
-lights: [{type: directional, direction: [0, -1, 0], irradiance: 1}]
-objects:
-  - name: mirror
-    shape: {type: quad, size: [1, 1]}
-    material: {type: mirror, reflectance: 1}
-  - name: wall
-    shape: {type: quad, size: [10, 10]}
-    material: {type: diffuse}
-    transform: {translate: [-2, 2, 0], rotate: [0, 0, -90]}
-)");
+  Scene scene = scene_from_yaml(kMirrorAndWall);
   SceneFrame frame(scene, 0);
   Tracer tracer(frame);
   const double irradiance = 2.0;

@@ -161,7 +161,7 @@ class VariantReportTest : public ::testing::Test {
     fs::path run_folder = folder / "runs" / run.key;
     fs::create_directories(run_folder);
     const double frame_ms = run.render_ms + 1.0;
-    RunRecord record;  // as the runner builds it (experiments/run_record.h)
+    RunRecord record;  // as the runner builds it (store/run_record.h)
     record.key = run.key;
     record.method = run.method;
     record.label = label(run);

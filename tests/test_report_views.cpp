@@ -11,10 +11,10 @@
 #include <gtest/gtest.h>
 
 #include "experiments/experiment.h"
-#include "experiments/quantity_registry.h"
+#include "methods/quantity_registry.h"
 #include "experiments/recompute_metrics.h"
-#include "experiments/record_check.h"
-#include "experiments/run_record.h"
+#include "store/record_check.h"
+#include "store/run_record.h"
 #include "experiments/runner.h"
 #include "reports/cost_views.h"
 #include "tests/report_test_support.h"

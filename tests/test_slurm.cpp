@@ -20,7 +20,8 @@
 #include <gtest/gtest.h>
 
 #include "experiments/experiment.h"
-#include "experiments/result_store.h"
+#include "store/result_paths.h"
+#include "store/run_folders.h"
 #include "experiments/shard_plan.h"
 #include "tests/cluster_test_support.h"
 
@@ -170,7 +171,7 @@ TEST(SlurmCluster, ShardCancelledMidwayAndResubmittedFinishesItsShard) {
   const std::string results = folder.path("results"), slurm = results + "/sweep/slurm";
   ASSERT_EQ(run_process({"slurm", folder.file, "--shards", "3", "--results", results}, folder.path("write.txt")).code, 0);
   Experiment experiment = folder.experiment();
-  ShardPlan plan = read_shard_plan(slurm + "/shard-plan.json", &experiment);
+  ShardPlan plan = read_shard_plan(slurm + "/shard-plan.json", experiment);
   std::vector<std::string> shard_runs;
   for (const PlannedRun& run : plan.runs)
     if (run.shard == 1) shard_runs.push_back(run.key);

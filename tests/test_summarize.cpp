@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "core/errors.h"
-#include "experiments/run_record.h"
+#include "store/run_record.h"
 #include "reports/summary.h"
 #include "tests/report_test_support.h"
 

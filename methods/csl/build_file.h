@@ -1,4 +1,4 @@
-// csl's build in the build cache (methods/build_cache.h): one binary file per specular object with
+// csl's build in the build cache (store/build_cache.h): one binary file per specular object with
 // its static sets, or its dynamic sets with their black spot lights, edges and triples, written and
 // read back exactly (a loaded build renders bit for bit as the computed one). Little-endian, as the
 // machines this runs on; a format line first, so that a file of another format or version is refused.

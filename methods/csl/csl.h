@@ -19,7 +19,7 @@
 
 namespace causticbench {
 
-class CslMethod : public CausticMethod {
+class CslMethod : public CausticMethod, public BuildCache, public GpuBackend {
  public:
   CslMethod();
   ~CslMethod() override;
@@ -32,6 +32,8 @@ class CslMethod : public CausticMethod {
   size_t memory_bytes() const override;
   Counters counters() const override;
   nlohmann::json record() const override;
+  BuildCache* build_cache() override { return this; }
+  GpuBackend* gpu() override { return this; }
   // The Vulkan backend (backend: vulkan, methods/csl/csl_gpu.cpp): the kernel time of the last render.
   std::optional<double> gpu_render_milliseconds() const override;
   void dump_frame(const GBuffer& gbuffer, const ParamSet& render, const Image& output,

@@ -147,7 +147,6 @@ const MethodInfo& CslMethod::static_info() {
         {"non_lambertian_receivers", "E_c is irradiance, whatever the receiver's BRDF; the spot lights know each ray's "
                                      "direction, so view-dependent shading could use it"},
     };
-    m.frame_dump = true;
     m.quick_knobs = {"rays_per_side=48", "image_size=128"};
     m.counters = {counter_quantity("spot_lights", "lights", "caustic spot lights over all objects and light directions"),
                   counter_quantity("caustic_rays", "rays", "caustic object rays that left the objects (all directions)"),

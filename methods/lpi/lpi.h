@@ -15,7 +15,7 @@
 
 namespace causticbench {
 
-class LpiMethod : public CausticMethod {
+class LpiMethod : public CausticMethod, public BuildCache, public GpuBackend {
  public:
   LpiMethod();
   ~LpiMethod() override;
@@ -28,6 +28,9 @@ class LpiMethod : public CausticMethod {
   size_t memory_bytes() const override;
   Counters counters() const override;
   nlohmann::json record() const override;
+  BuildCache* build_cache() override { return this; }
+  GpuBackend* gpu() override { return this; }
+  // The build cache (methods/lpi/lpi_build.cpp) and the Vulkan backend (backend: vulkan).
   std::optional<nlohmann::json> build_dependencies(const PrepareContext& context, const ParamSet& build) const override;
   std::vector<MemoryTerm> knob_memory(const PrepareContext& context, const ParamSet& knobs) const override;
   void save_build(const std::string& folder) const override;

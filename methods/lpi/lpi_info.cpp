@@ -181,7 +181,6 @@ const MethodInfo& LpiMethod::static_info() {
         {"occlusion", "the caustic reaches receivers behind other objects"},
         {"non_lambertian_receivers", "E_c is irradiance, whatever the receiver's BRDF"},
     };
-    m.frame_dump = true;
     m.knob_rules = {{{"grid_resolution", "orientation"}, grid_one_cell_problem},
                     {{"multires_depth", "orientation"}, multires_one_cell_problem},
                     {{"sh_order", "light_subdivision", "light_sample_at"}, sh_samples_problem}};

@@ -11,7 +11,7 @@
 
 namespace causticbench {
 
-class PhotonMapMethod : public CausticMethod {
+class PhotonMapMethod : public CausticMethod, public BuildCache {
  public:
   PhotonMapMethod();
   ~PhotonMapMethod() override;
@@ -23,6 +23,8 @@ class PhotonMapMethod : public CausticMethod {
   size_t memory_bytes() const override;
   Counters counters() const override;
   nlohmann::json record() const override;
+  // The build cache: a static scene's photons.
+  BuildCache* build_cache() override { return this; }
   std::optional<nlohmann::json> build_dependencies(const PrepareContext& context, const ParamSet& build) const override;
   std::vector<MemoryTerm> knob_memory(const PrepareContext& context, const ParamSet& knobs) const override;
   void save_build(const std::string& folder) const override;

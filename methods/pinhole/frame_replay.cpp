@@ -1,8 +1,10 @@
-#include "methods/pinhole/frame_replay.h"
-
+// pinhole's frame dump format: a `--dump-frame` folder that PinholeMethod::dump_frame wrote
+// (methods/pinhole/frame_data.h), replayed with VulkanPinhole by the generic replay (methods/frame_replay.h).
+// Depends only on gpu/ and the standard library, like the rest of causticbench-gpubench.
 #include <sstream>
 
 #include "gpu/cube_filter_check.h"
+#include "methods/frame_replay.h"
 #include "methods/pinhole/frame_data.h"
 #include "methods/pinhole/vulkan_pinhole.h"
 
@@ -10,46 +12,28 @@ namespace causticbench {
 
 namespace {
 
-class PinholeReplay : public FrameReplay {
- public:
-  PinholeReplay(gpu::Context& context, const std::string& folder)
-      : frame_(read_frame_data(folder)),
-        // Whether this device's filtered lookups mean what textureGrad says (gpu/cube_filter_check.h):
-        // run for both modes whatever the frame's filtering, since it is a fact of the device that a GPU
-        // machine's timings should carry.
-        isotropic_(gpu::check_cube_filtering(context, false)),
-        anisotropic_(gpu::check_cube_filtering(context, true)),
-        pinhole_(context) {
-    pinhole_.upload_frame(frame_);
-  }
-
-  std::vector<float> render(double& kernel_ms) override { return pinhole_.render(frame_, kernel_ms); }
-
-  std::string facts_json() const override {
+struct PinholeReplayTraits {
+  using Frame = PinholeFrameData;
+  using Backend = VulkanPinhole;
+  static Frame read(const std::string& folder) { return read_frame_data(folder); }
+  static void upload(Backend& backend, const Frame& frame) { backend.upload_frame(frame); }
+  // The shader evaluates every sample at every receiver (masked pixels return at once).
+  static double evaluations_per_receiver(const Frame& frame) { return frame.sample_count(); }
+  static std::string facts_json(const Frame& frame, gpu::Context& context) {
+    // Whether this device's filtered lookups mean what textureGrad says (gpu/cube_filter_check.h): run for
+    // both modes whatever the frame's filtering, since it is a fact of the device that a GPU machine's
+    // timings should carry.
+    const gpu::CubeFilterCheck isotropic = gpu::check_cube_filtering(context, false);
+    const gpu::CubeFilterCheck anisotropic = gpu::check_cube_filtering(context, true);
     auto boolean = [](bool value) { return value ? "true" : "false"; };
     std::ostringstream facts;
-    facts << "\"filtering\": " << frame_.filtering << ",\n\"samples\": " << frame_.sample_count()
-          << ",\n\"isotropic_filtering_honours_gradients\": " << boolean(isotropic_.honours_gradients)
-          << ",\n\"anisotropic_filtering_honours_gradients\": " << boolean(anisotropic_.honours_gradients)
-          << ",\n\"sampler_check\": " << json_quoted(isotropic_.summary() + "; " + anisotropic_.summary());
+    facts << "\"filtering\": " << frame.filtering << ",\n\"samples\": " << frame.sample_count()
+          << ",\n\"isotropic_filtering_honours_gradients\": " << boolean(isotropic.honours_gradients)
+          << ",\n\"anisotropic_filtering_honours_gradients\": " << boolean(anisotropic.honours_gradients)
+          << ",\n\"sampler_check\": " << json_quoted(isotropic.summary() + "; " + anisotropic.summary());
     return facts.str();
   }
-
- private:
-  PinholeFrameData frame_;
-  gpu::CubeFilterCheck isotropic_, anisotropic_;
-  VulkanPinhole pinhole_;
 };
-
-FrameDumpInfo read_pinhole_info(const std::string& folder) {
-  const PinholeFrameData frame = read_frame_data(folder);
-  // The shader evaluates every sample at every receiver (masked pixels return at once).
-  return receiver_dump_info(frame.width, frame.height, frame.receiver_positions, frame.sample_count());
-}
-
-std::unique_ptr<FrameReplay> replay_pinhole(gpu::Context& context, const std::string& folder) {
-  return std::make_unique<PinholeReplay>(context, folder);
-}
 
 }  // namespace
 
@@ -63,9 +47,7 @@ FrameDumpFormat pinhole_frame_dump_format() {
       "both backends do the same float arithmetic in a different order and with different square roots and "
       "divisions, so they differ by rounding only; a real disagreement (a wrong texel, a missed sample) is orders "
       "of magnitude larger";
-  format.read_info = &read_pinhole_info;
-  format.replay = &replay_pinhole;
-  return format;
+  return frame_dump_format_of<PinholeReplayTraits>(format);
 }
 
 }  // namespace causticbench

@@ -13,7 +13,7 @@
 
 namespace causticbench {
 
-class PinholeMethod : public CausticMethod {
+class PinholeMethod : public CausticMethod, public GpuBackend {
  public:
   PinholeMethod();
   ~PinholeMethod() override;
@@ -27,6 +27,8 @@ class PinholeMethod : public CausticMethod {
   Counters counters() const override;
   nlohmann::json record() const override;
   std::vector<MemoryTerm> knob_memory(const PrepareContext& context, const ParamSet& knobs) const override;
+  // The Vulkan backend (backend: vulkan).
+  GpuBackend* gpu() override { return this; }
   std::optional<double> gpu_render_milliseconds() const override {
     return vulkan_ ? std::optional<double>(gpu_render_ms_) : std::nullopt;
   }

@@ -71,7 +71,6 @@ const MethodInfo& PinholeMethod::static_info() {
                                             "Table 1 marks pinhole so)"},
                {"occlusion", "no visibility between reflector samples and receivers beyond back-face culling"},
                {"multiple_bounces", "one specular interaction only"}};
-    m.frame_dump = true;
     m.quick_knobs = {"samples=64", "environment_resolution=32"};
     m.counters = {counter_quantity("samples", "samples", "reflector samples (pinholes) per frame"),
                   counter_quantity("cube_map_texels", "texels", "texels of the light's cube map"),

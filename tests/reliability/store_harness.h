@@ -24,11 +24,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "experiments/record_check.h"
-#include "experiments/result_store.h"
-#include "experiments/store_files.h"
-#include "experiments/store_lock.h"
-#include "methods/build_cache.h"
+#include "store/record_check.h"
+#include "store/result_paths.h"
+#include "store/run_folders.h"
+#include "store/store_files.h"
+#include "store/store_lock.h"
+#include "store/build_cache.h"
 
 namespace causticbench::store_harness {
 

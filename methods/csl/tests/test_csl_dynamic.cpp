@@ -11,6 +11,7 @@
 #include "core/image_statistics.h"
 #include "methods/csl/csl.h"
 #include "methods/lifecycle.h"
+#include "store/build_cache.h"
 #include "methods/registry.h"
 #include "tests/test_support.h"
 
@@ -335,9 +336,10 @@ TEST(CslDynamic, ALoadedDynamicBuildRendersIdentically) {
   const PosedFrame frame_one(moving, 1);
   Image images[2];
   nlohmann::json records[2];
+  BuildCacheFolder builds(cache.path("builds"));
   for (int pass = 0; pass < 2; ++pass) {
     std::unique_ptr<CausticMethod> method = entry.create();
-    const PrepareOutcome outcome = prepare_method(*method, rest.context(), knobs.build, cache.path("builds"));
+    const PrepareOutcome outcome = prepare_method(*method, rest.context(), knobs.build, &builds);
     EXPECT_EQ(outcome.source, pass == 0 ? "computed" : "loaded");
     method->update(frame_one.context(), knobs.frame);
     images[pass] = method->render(frame_one.gbuffer, knobs.render);
@@ -352,9 +354,9 @@ TEST(CslDynamic, ALoadedDynamicBuildRendersIdentically) {
   const Scene other_camera = scene_from_yaml(causticbench::testing::small_glass_sphere_turning(
       replace_once(kSmallGlassSphere, "position: [0, 2.0, 2.0]", "position: [1, 2.5, 1.0]")));
   const RestPose other_rest(other_camera, {0, 1});
-  EXPECT_EQ(probe->build_dependencies(other_rest.context(), knobs.build), probe->build_dependencies(rest.context(), knobs.build));
+  EXPECT_EQ(probe->build_cache()->build_dependencies(other_rest.context(), knobs.build), probe->build_cache()->build_dependencies(rest.context(), knobs.build));
   const RestPose one_frame(moving, {1});
-  EXPECT_NE(probe->build_dependencies(one_frame.context(), knobs.build), probe->build_dependencies(rest.context(), knobs.build));
+  EXPECT_NE(probe->build_cache()->build_dependencies(one_frame.context(), knobs.build), probe->build_cache()->build_dependencies(rest.context(), knobs.build));
 }
 
 // Two neighbouring light directions of the glass sphere (16 degrees apart, an edge of the icosahedron

@@ -61,7 +61,8 @@ void expect_backends_agree(CausticMethod& method, const PosedFrame& frame, const
     vulkan_set.push_back("backend=vulkan");
     const Image cpu = method.render(frame.gbuffer, csl_knobs(set).render);
     const Image vulkan = method.render(frame.gbuffer, csl_knobs(vulkan_set).render);
-    ASSERT_TRUE(method.gpu_render_milliseconds().has_value());
+    ASSERT_NE(method.gpu(), nullptr);
+    ASSERT_TRUE(method.gpu()->gpu_render_milliseconds().has_value());
     EXPECT_FALSE(method.record()["gpu_device"].get<std::string>().empty());
     const Agreement measured = agreement(vulkan, cpu, frame.gbuffer.receiver);
     std::string knobs;

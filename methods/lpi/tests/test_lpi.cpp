@@ -9,7 +9,7 @@
 
 #include "core/errors.h"
 #include "core/image_statistics.h"
-#include "methods/build_cache.h"
+#include "store/build_cache.h"
 #include "methods/lifecycle.h"
 #include "methods/lpi/light_samples.h"
 #include "methods/registry.h"
@@ -242,7 +242,7 @@ objects:
   RestPose rest_moving(moving_scene, {0, 1});
   std::unique_ptr<CausticMethod> probe = create_method("lpi");
   const ParamSet build = build_knobs(knobs);
-  EXPECT_EQ(probe->build_dependencies(rest_still.context(), build), probe->build_dependencies(rest_moving.context(), build));
+  EXPECT_EQ(probe->build_cache()->build_dependencies(rest_still.context(), build), probe->build_cache()->build_dependencies(rest_moving.context(), build));
 }
 
 // Scenes lpi cannot represent are refused before any work, naming what is missing.

@@ -20,6 +20,7 @@
 #include "core/parallel.h"
 #include "methods/common/simd_lanes.h"
 #include "methods/lifecycle.h"
+#include "store/build_cache.h"
 #include "methods/lpi/grid_layout.h"
 #include "methods/lpi/lookup.h"
 #include "methods/lpi/multires_layout.h"
@@ -431,8 +432,8 @@ TEST(LpiFastPaths, DISABLED_LookupThroughputOnTheTurningRing) {
         if (!method) {
           method = checked.method->create();
           std::unique_ptr<RestPose> rest;
-          prepare_method(*method, prepare_context(scene, {frame_index}, nullptr, rest), phases.build,
-                         "/tmp/lpi_lookup_throughput_builds");
+          BuildCacheFolder builds("/tmp/lpi_lookup_throughput_builds");
+          prepare_method(*method, prepare_context(scene, {frame_index}, nullptr, rest), phases.build, &builds);
         }
         method->update(frame.context(), phases.frame);
         const double receivers = static_cast<double>(frame.gbuffer.receiver_count());

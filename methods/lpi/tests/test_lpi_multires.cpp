@@ -5,12 +5,15 @@
 #include <cmath>
 #include <random>
 
+#include <optional>
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
 #include "core/parallel.h"
 #include "methods/lifecycle.h"
+#include "store/build_cache.h"
 #include "methods/lpi/harmonic_storage.h"
 #include "methods/lpi/multires_layout.h"
 #include "methods/lpi/precompute.h"
@@ -333,7 +336,9 @@ TEST(LpiCompressedStorage, CachedBuildsAndThreadCountsRenderIdentically) {
       std::unique_ptr<CausticMethod> method = create_method("lpi");
       RestPose rest(scene, {0});
       PosedFrame posed(scene, 0);
-      const PrepareOutcome outcome = prepare_method(*method, rest.context(), phases.build, cache_folder);
+      std::optional<BuildCacheFolder> builds;
+      if (!cache_folder.empty()) builds.emplace(cache_folder);
+      const PrepareOutcome outcome = prepare_method(*method, rest.context(), phases.build, builds ? &*builds : nullptr);
       if (source) *source = outcome.source;
       return std::move(play_sequence(*method, {&posed}, phases.frame, {phases.render}, TimingProtocol{false, 1})
                            .front()

@@ -113,9 +113,9 @@ TEST(LpiVulkan, CpuKeepsOldRunAndBuildKeys) {
   const Scene scene = scene_from_yaml(kTwoObjects);
   RestPose rest(scene, {0, 1});
   std::unique_ptr<CausticMethod> probe = create_method("lpi");
-  const nlohmann::json cpu_build = *probe->build_dependencies(rest.context(), split_phases(cpu, info.params).build);
+  const nlohmann::json cpu_build = *probe->build_cache()->build_dependencies(rest.context(), split_phases(cpu, info.params).build);
   EXPECT_FALSE(cpu_build["build"].contains("backend"));
-  EXPECT_NE(cpu_build, *probe->build_dependencies(rest.context(), split_phases(vulkan, info.params).build));
+  EXPECT_NE(cpu_build, *probe->build_cache()->build_dependencies(rest.context(), split_phases(vulkan, info.params).build));
 }
 
 // What the kernel does not evaluate is refused before any photon is shot, saying what it does.

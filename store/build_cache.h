@@ -13,8 +13,11 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
+
+#include "methods/build_store.h"
 
 namespace causticbench {
 
@@ -37,5 +40,22 @@ nlohmann::json build_file_checksums(const std::string& folder);
 // `problem` says what is wrong when not.
 std::optional<StoredBuild> find_stored_build(const std::string& cache, const std::string& key,
                                              const std::string& method, const nlohmann::json& dependencies);
+
+// The build cache in a folder (results/builds): the BuildStore the lifecycle driver loads and stores
+// builds through (methods/lifecycle.h, prepare_method).
+class BuildCacheFolder : public BuildStore {
+ public:
+  explicit BuildCacheFolder(std::string folder) : folder_(std::move(folder)) {}
+  const std::string& folder() const { return folder_; }
+  std::string key(const std::string& method, const nlohmann::json& dependencies) const override;
+  std::optional<Found> find(const std::string& method, const std::string& key, const nlohmann::json& dependencies) override;
+  // build.json is written last, into a staging folder renamed into place (core/staging_folder.h).
+  void put(const std::string& method, const std::string& key, const nlohmann::json& dependencies, const ParamSet& build,
+           double prepare_seconds, bool replace, const std::function<void(const std::string& folder)>& write) override;
+
+ private:
+  std::string folder_;
+  bool tidied_ = false;  // staging folders of dead processes removed
+};
 
 }  // namespace causticbench

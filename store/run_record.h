@@ -85,7 +85,7 @@ struct RunRecord {
   bool ok() const { return status == "ok"; }
   // A metric's value: none when absent, NaN (a null in the file) or undefined.
   std::optional<double> metric(const std::string& name) const;
-  // Any quantity of the registry (experiments/quantity_registry.h) by name: metric, timing, size or
+  // Any quantity of the registry (methods/quantity_registry.h) by name: metric, timing, size or
   // counter; none when the record has no finite value of it.
   std::optional<double> quantity(const std::string& name) const;
   // The resolved knobs that --filter and claims match: build, frame and render merged, with variant

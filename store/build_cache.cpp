@@ -1,9 +1,11 @@
-#include "methods/build_cache.h"
+#include "store/build_cache.h"
 
 #include <filesystem>
 #include <fstream>
 
+#include "core/files.h"
 #include "core/hash.h"
+#include "core/staging_folder.h"
 
 namespace causticbench {
 
@@ -52,6 +54,47 @@ std::optional<StoredBuild> find_stored_build(const std::string& cache, const std
     }
   }
   return stored;
+}
+
+std::string BuildCacheFolder::key(const std::string& method, const nlohmann::json& dependencies) const {
+  return build_cache_key(method, dependencies);
+}
+
+std::optional<BuildStore::Found> BuildCacheFolder::find(const std::string& method, const std::string& key,
+                                                        const nlohmann::json& dependencies) {
+  if (!tidied_) {
+    make_folders(folder_);
+    remove_stale_staging(folder_);
+    tidied_ = true;
+  }
+  std::optional<StoredBuild> stored = find_stored_build(folder_, key, method, dependencies);
+  if (!stored) return std::nullopt;
+  Found found{stored->folder, 0.0, stored->problem};
+  if (found.problem.empty()) found.prepare_seconds = stored->record["prepare_seconds"].get<double>();
+  return found;
+}
+
+void BuildCacheFolder::put(const std::string& method, const std::string& key, const nlohmann::json& dependencies,
+                           const ParamSet& build, double prepare_seconds, bool replace,
+                           const std::function<void(const std::string& folder)>& write) {
+  make_folders(folder_);
+  StagingFolder staging((fs::path(folder_) / key).string());
+  write(staging.path());
+  nlohmann::json record = {{"method", method},
+                           {"version", kBuildCacheVersion},
+                           {"key", key},
+                           {"dependencies", dependencies},
+                           {"build", build.to_json()},
+                           {"files", build_file_checksums(staging.path())},
+                           {"prepare_seconds", prepare_seconds}};
+  // build.json last: a folder without it is incomplete and never read.
+  write_text_atomically((fs::path(staging.path()) / "build.json").string(), record.dump(2) + "\n");
+  if (replace) {
+    staging.commit();  // replaces the unreadable one
+  } else if (!staging.commit_if_absent()) {
+    // Another process stored the same build while we computed it; ours is identical in content
+    // (same dependencies), so theirs serves: nothing to do.
+  }
 }
 
 }  // namespace causticbench

@@ -4,8 +4,10 @@
 // counted as pending or stored, never half.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace causticbench {
 
@@ -29,6 +31,10 @@ struct SweepStatus {
 // `causticbench run` (a pending run's method then comes from the experiment file it names, while that
 // file still expands to the same runs). A damaged plan is reported in plan_problem and experiment.json
 // serves instead. InputError when the folder has neither.
-SweepStatus sweep_status(const std::string& folder);
+// `experiment_runs(source)`: the runs (key, method) that the experiment file at `source` expands to now,
+// empty when it cannot be read; the experiment layer's reader (experiments/experiment.h,
+// experiment_file_runs), given by the caller so that the store needs nothing above it.
+using ExperimentFileRuns = std::function<std::vector<std::pair<std::string, std::string>>(const std::string& source)>;
+SweepStatus sweep_status(const std::string& folder, const ExperimentFileRuns& experiment_runs);
 
 }  // namespace causticbench

@@ -1,12 +1,12 @@
 // The run record's JSON form (declared in run_record.h; the fields: docs/results-format.md).
-#include "experiments/run_record.h"
+#include "store/run_record.h"
 
 #include <cmath>
 #include <limits>
 
 #include <fmt/format.h>
 
-#include "experiments/quantity_registry.h"
+#include "methods/quantity_registry.h"
 
 namespace causticbench {
 

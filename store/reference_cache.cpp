@@ -1,16 +1,16 @@
 // The reference cache, results/references/<key>/: loading a stored frame after its checks, computing a
 // missing or damaged one under the reference's lock, and the folder's record.json summary
-// (experiments/reference_frames.h; docs/results-format.md).
+// (store/reference_cache.h; docs/results-format.md).
 #include <filesystem>
 #include <regex>
 
 #include <fmt/format.h>
 
 #include "core/files.h"
-#include "experiments/record_check.h"
-#include "experiments/reference_frames.h"
-#include "experiments/store_files.h"
-#include "experiments/store_lock.h"
+#include "store/record_check.h"
+#include "store/reference_cache.h"
+#include "store/store_files.h"
+#include "store/store_lock.h"
 #include "methods/reference/reference.h"
 #include "methods/registry.h"
 
@@ -61,7 +61,7 @@ bool computed_for_other_content(const nlohmann::json& record, const std::string&
 }
 
 // A frame is stored once its record is: the record is written last and names its images' checksums.
-// `content_hash` is the variant's (SceneVariant::content_hash): the key hashes the scene file's text only,
+// `content_hash` is the request's: the key hashes the scene file's text only,
 // so a mesh or environment map edited in place is caught here (frames stored before the field pass).
 StoredFrame find_stored_frame(const fs::path& folder, int frame, const GBuffer& gbuffer, const std::string& content_hash) {
   StoredFrame stored;
@@ -132,16 +132,16 @@ std::optional<std::string> time_cap_reason(const nlohmann::json& record, const P
 
 // Computes one frame's reference through the lifecycle driver and stores it: the EXRs first, the record,
 // which names their checksums, last.
-void compute_frame(const Experiment& experiment, const SceneVariant& variant, const fs::path& folder, int frame,
-                   VariantFrames& frames, std::unique_ptr<RestPose>& rest) {
+void compute_frame(const ReferenceRequest& request, const fs::path& folder, int frame, VariantFrames& frames,
+                   std::unique_ptr<RestPose>& rest) {
   const PosedFrame& posed = *frames.posed.at(frame);
-  fmt::print(stderr, "reference {} frame {}{}: computing (cached in {})\n", variant.reference_key, frame,
-             experiment.variants.size() > 1 ? " of variant " + variant.name : "", folder.string());
+  fmt::print(stderr, "reference {} frame {}{}: computing (cached in {})\n", request.reference_key, frame, request.label,
+             folder.string());
   std::unique_ptr<CausticMethod> method = create_method("reference");
-  const PhaseKnobs knobs = split_phases(experiment.reference_params, method->info().params);
+  const PhaseKnobs knobs = split_phases(request.params, method->info().params);
   auto zero = frames.posed.find(0);
   const PosedFrame* frame_zero = zero == frames.posed.end() ? nullptr : zero->second.get();
-  prepare_method(*method, prepare_context(variant.scene, experiment.frames, frame_zero, rest), knobs.build);
+  prepare_method(*method, prepare_context(request.scene, request.frames, frame_zero, rest), knobs.build);
   Image caustic =
       std::move(play_sequence(*method, {&posed}, knobs.frame, {knobs.render}, TimingProtocol{false, 1}).front().images.front());
   const FrameFiles files = frame_files(folder, frame);
@@ -155,20 +155,20 @@ void compute_frame(const Experiment& experiment, const SceneVariant& variant, co
   write_file_atomically(files.error.string(), error_bytes);
   nlohmann::json record = method->record();
   record["frame"] = frame;
-  record["params"] = experiment.reference_params.to_json();
-  record["scene_content"] = variant.content_hash;
+  record["params"] = request.params.to_json();
+  record["scene_content"] = request.content_hash;
   record["image"] = content_checksum(image_bytes);
   record["image"]["file"] = files.image.filename().string();
   record["gbuffer"] = content_checksum(gbuffer_bytes);
   record["gbuffer"]["file"] = files.gbuffer.filename().string();
   record["error_map"] = content_checksum(error_bytes);
   record["error_map"]["file"] = files.error.filename().string();
-  std::optional<std::string> reason = time_cap_reason(record, experiment.reference_params);
+  std::optional<std::string> reason = time_cap_reason(record, request.params);
   record["converged"] = !reason;
   if (reason) {
     record["unconverged_reason"] = *reason;
     fmt::print(stderr, "warning: reference {} frame {} is not converged: {}; runs measured against it say so\n",
-               variant.reference_key, frame, *reason);
+               request.reference_key, frame, *reason);
   }
   write_text_atomically(files.record.string(), record.dump(2) + "\n");
   use_frame(frames, frame, std::move(caustic), record, content_checksum(image_bytes));
@@ -216,29 +216,28 @@ bool summary_is_readable(const fs::path& folder) {
 
 }  // namespace
 
-VariantFrames variant_frames(const Experiment& experiment, const SceneVariant& variant, const ResultPaths& paths) {
+VariantFrames reference_frames(const ReferenceRequest& request, const ResultPaths& paths) {
   VariantFrames frames;
-  const fs::path folder = paths.reference(variant.reference_key);
+  const fs::path folder = paths.reference(request.reference_key);
   remove_stale_partial_files(folder.string());  // of dead processes only: a live one may be writing here
   std::vector<int> missing;
-  for (int frame : experiment.frames) {
-    const PosedFrame& posed = *(frames.posed[frame] = std::make_unique<PosedFrame>(variant.scene, frame));
-    StoredFrame stored = find_stored_frame(folder, frame, posed.gbuffer, variant.content_hash);
+  for (int frame : request.frames) {
+    const PosedFrame& posed = *(frames.posed[frame] = std::make_unique<PosedFrame>(request.scene, frame));
+    StoredFrame stored = find_stored_frame(folder, frame, posed.gbuffer, request.content_hash);
     if (stored.usable()) use_frame(frames, frame, std::move(stored.image), stored.record, std::move(stored.checksum));
     else missing.push_back(frame);
   }
   if (missing.empty() && summary_is_readable(folder)) return frames;
 
   make_folders(folder.string());
-  const std::string what = fmt::format("reference {}{}", variant.reference_key,
-                                       experiment.variants.size() > 1 ? " of variant " + variant.name : "");
-  StoreLock lock = StoreLock::acquire(paths.reference_lock(variant.reference_key), what);
+  const std::string what = fmt::format("reference {}{}", request.reference_key, request.label);
+  StoreLock lock = StoreLock::acquire(paths.reference_lock(request.reference_key), what);
   remove_stale_partial_files(folder.string(), /*folder_is_locked=*/true);
   std::unique_ptr<RestPose> rest;  // posed only if a frame must be computed
   bool computed = false;
   for (int frame : missing) {
     // Looked at again under the lock: the process we waited for may have stored it.
-    StoredFrame stored = find_stored_frame(folder, frame, frames.posed.at(frame)->gbuffer, variant.content_hash);
+    StoredFrame stored = find_stored_frame(folder, frame, frames.posed.at(frame)->gbuffer, request.content_hash);
     if (stored.usable()) {
       use_frame(frames, frame, std::move(stored.image), stored.record, std::move(stored.checksum));
       continue;
@@ -246,13 +245,13 @@ VariantFrames variant_frames(const Experiment& experiment, const SceneVariant& v
     if (stored.present) {
       fmt::print(stderr, "warning: {} frame {}: {}; computing it again\n", what, frame, stored.problem);
     }
-    compute_frame(experiment, variant, folder, frame, frames, rest);
+    compute_frame(request, folder, frame, frames, rest);
     computed = true;
   }
   if (computed || !summary_is_readable(folder)) {
     if (!computed) fmt::print(stderr, "warning: {}: unreadable; writing it again from the frames' records\n",
                               (folder / "record.json").string());
-    write_summary(folder, variant.reference_key);
+    write_summary(folder, request.reference_key);
   }
   return frames;
 }
@@ -272,12 +271,13 @@ std::optional<nlohmann::json> stored_reference_checksums(const ResultPaths& path
   return checksums;
 }
 
-bool stored_reference_content_differs(const ResultPaths& paths, const SceneVariant& variant, const std::vector<int>& frames) {
+bool stored_reference_content_differs(const ResultPaths& paths, const std::string& reference_key,
+                                      const std::string& content_hash, const std::vector<int>& frames) {
   for (int frame : frames) {
     std::string problem;
     std::optional<nlohmann::json> record =
-        read_frame_record(frame_files(paths.reference(variant.reference_key), frame).record, frame, problem);
-    if (record && computed_for_other_content(*record, variant.content_hash)) return true;
+        read_frame_record(frame_files(paths.reference(reference_key), frame).record, frame, problem);
+    if (record && computed_for_other_content(*record, content_hash)) return true;
   }
   return false;
 }

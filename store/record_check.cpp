@@ -1,12 +1,12 @@
-#include "experiments/record_check.h"
+#include "store/record_check.h"
 
 #include <filesystem>
 #include <initializer_list>
 
 #include <fmt/format.h>
 
-#include "experiments/run_record.h"
-#include "experiments/store_files.h"
+#include "store/run_record.h"
+#include "store/store_files.h"
 
 namespace causticbench {
 

@@ -1,4 +1,4 @@
-#include "experiments/store_files.h"
+#include "store/store_files.h"
 
 #include <fstream>
 #include <sstream>

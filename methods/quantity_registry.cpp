@@ -1,5 +1,5 @@
 // The quantity registry (declared in quantity_registry.h).
-#include "experiments/quantity_registry.h"
+#include "methods/quantity_registry.h"
 
 #include <algorithm>
 

@@ -12,7 +12,7 @@
 namespace causticbench {
 
 // Why a run's record.json, parsed, cannot be used ("" when it can): it reads as a RunRecord
-// (experiments/run_record.h: every field of its type, a version this build knows), its key is the
+// (store/run_record.h: every field of its type, a version this build knows), its key is the
 // folder's name, and every image an ok one names is in `run_folder`, matching its checksum under
 // "images" (records written before checksums carry none and are checked for presence only).
 std::string run_record_problem(const nlohmann::json& record, const std::string& run_folder);

@@ -1,4 +1,4 @@
-#include "experiments/sweep_status.h"
+#include "store/sweep_status.h"
 
 #include <filesystem>
 #include <map>
@@ -9,10 +9,10 @@
 #include <nlohmann/json.hpp>
 
 #include "core/errors.h"
-#include "experiments/experiment.h"
-#include "experiments/result_store.h"
-#include "experiments/shard_plan.h"
-#include "experiments/store_files.h"
+#include "store/result_paths.h"
+#include "store/run_folders.h"
+#include "store/shard_plan_file.h"
+#include "store/store_files.h"
 
 namespace causticbench {
 
@@ -41,7 +41,8 @@ std::map<std::string, std::string> current_reference_keys(const std::string& fol
 }
 
 // From experiment.json: the run keys; their methods from the experiment file when it still expands to them.
-std::vector<ListedRun> runs_of_experiment_json(const std::string& folder, std::string& name) {
+std::vector<ListedRun> runs_of_experiment_json(const std::string& folder, std::string& name,
+                                               const ExperimentFileRuns& experiment_runs) {
   const std::string path = (fs::path(folder) / "experiment.json").string();
   std::optional<std::string> text = read_file_bytes(path);
   if (!text) {
@@ -56,22 +57,19 @@ std::vector<ListedRun> runs_of_experiment_json(const std::string& folder, std::s
   name = json.value("name", fs::path(folder).filename().string());
   std::vector<ListedRun> runs;
   for (const nlohmann::json& key : json["runs"]) runs.push_back({key.get<std::string>(), "", -1});
-  try {
-    Experiment experiment = load_experiment(json.value("source", ""));
-    bool same = experiment.runs.size() == runs.size();
-    for (size_t i = 0; same && i < runs.size(); ++i) same = experiment.runs[i].key == runs[i].key;
-    if (same) {
-      for (size_t i = 0; i < runs.size(); ++i) runs[i].method = experiment.runs[i].method;
-    }
-  } catch (const std::exception&) {
-    // The experiment file moved or changed: stored runs still name their method in their records.
-  }
+  // When the experiment file moved or changed, stored runs still name their method in their records.
+  const std::vector<std::pair<std::string, std::string>> file_runs =
+      experiment_runs ? experiment_runs(json.value("source", "")) : std::vector<std::pair<std::string, std::string>>{};
+  bool same = file_runs.size() == runs.size();
+  for (size_t i = 0; same && i < runs.size(); ++i) same = file_runs[i].first == runs[i].key;
+  if (same)
+    for (size_t i = 0; i < runs.size(); ++i) runs[i].method = file_runs[i].second;
   return runs;
 }
 
 }  // namespace
 
-SweepStatus sweep_status(const std::string& folder) {
+SweepStatus sweep_status(const std::string& folder, const ExperimentFileRuns& experiment_runs) {
   SweepStatus status;
   status.folder = folder;
   std::vector<ListedRun> runs;
@@ -79,7 +77,7 @@ SweepStatus sweep_status(const std::string& folder) {
   std::optional<ShardPlan> plan;
   if (fs::exists(plan_path)) {
     try {
-      plan = read_shard_plan(plan_path);
+      plan = read_shard_plan_file(plan_path);
     } catch (const InputError& error) {
       // A garbled plan is something to report, not a reason to report nothing: experiment.json still
       // names every run (issue 30, defect 13).
@@ -93,7 +91,7 @@ SweepStatus sweep_status(const std::string& folder) {
     for (const PlannedRun& run : plan->runs) runs.push_back({run.key, run.method, run.shard});
   } else {
     try {
-      runs = runs_of_experiment_json(folder, status.experiment);
+      runs = runs_of_experiment_json(folder, status.experiment, experiment_runs);
     } catch (const InputError& error) {
       if (status.plan_problem.empty()) throw;
       throw InputError(status.plan_problem + "; and " + error.what());

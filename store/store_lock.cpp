@@ -1,4 +1,4 @@
-#include "experiments/store_lock.h"
+#include "store/store_lock.h"
 
 #include <fcntl.h>
 #include <signal.h>
