@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "core/parallel.h"
-#include "methods/lpi/spherical_harmonics.h"
+#include "methods/common/spherical_harmonics.h"
 
 namespace causticbench::lpi {
 

@@ -25,7 +25,7 @@
 
 #include "core/light.h"
 #include "methods/common/geodesic.h"
-#include "methods/lpi/stored_values.h"
+#include "methods/common/stored_values.h"
 
 namespace causticbench::lpi {
 

@@ -14,8 +14,8 @@
 
 #include "core/gbuffer.h"
 #include "core/image.h"
-#include "methods/lpi/grid_layout.h"
-#include "methods/lpi/stored_values.h"
+#include "methods/common/grid_layout.h"
+#include "methods/common/stored_values.h"
 
 namespace causticbench::lpi {
 

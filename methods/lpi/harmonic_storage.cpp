@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 
 #include "core/parallel.h"
-#include "methods/lpi/spherical_harmonics.h"
+#include "methods/common/spherical_harmonics.h"
 
 namespace causticbench::lpi {
 

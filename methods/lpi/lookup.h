@@ -11,7 +11,7 @@
 #include "core/gbuffer.h"
 #include "core/image.h"
 #include "methods/lpi/grid_lanes.h"
-#include "methods/lpi/grid_layout.h"
+#include "methods/common/grid_layout.h"
 #include "methods/lpi/light_samples.h"
 #include "methods/lpi/multires_layout.h"
 #include "methods/lpi/precompute.h"

@@ -47,7 +47,7 @@ class LpiMethod : public CausticMethod, public BuildCache, public GpuBackend {
   struct EnvironmentState {
     bool active = false;
     std::vector<Vec3> pose;  // the object's turn (three columns) and each environment light's direction
-    lpi::StoredValues values;      // the blocks combined by `weights` (empty under per_sample)
+    StoredValues values;      // the blocks combined by `weights` (empty under per_sample)
     std::vector<glm::dvec3> weights;  // W_s per block of the object's values (environment.h)
     bool per_sample = false;          // environment_clamp: per_sample
     size_t quadrature_points = 0;

@@ -13,7 +13,7 @@
 #include "core/scene_description.h"
 #include "methods/lpi/environment.h"
 #include "methods/lpi/gpu_frame.h"
-#include "methods/lpi/spherical_harmonics.h"
+#include "methods/common/spherical_harmonics.h"
 #include "methods/lpi/lpi.h"
 
 namespace causticbench {

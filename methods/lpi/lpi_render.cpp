@@ -15,7 +15,7 @@
 #include "methods/lpi/lookup.h"
 #include "methods/lpi/multires_layout.h"
 #include "methods/lpi/vulkan_lpi.h"
-#include "methods/lpi/spherical_harmonics.h"
+#include "methods/common/spherical_harmonics.h"
 
 namespace causticbench {
 

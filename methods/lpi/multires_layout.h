@@ -22,7 +22,7 @@
 
 #include <vector>
 
-#include "methods/lpi/grid_layout.h"
+#include "methods/common/grid_layout.h"
 
 namespace causticbench::lpi {
 

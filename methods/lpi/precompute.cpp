@@ -4,12 +4,12 @@
 #include <optional>
 #include <stdexcept>
 
-#include "core/parallel.h"
 #include "core/tracer.h"
-#include "methods/lpi/grid_layout.h"
+#include "methods/common/grid_layout.h"
+#include "methods/common/photon_tracks.h"
 #include "methods/lpi/harmonic_storage.h"
 #include "methods/lpi/multires_layout.h"
-#include "methods/lpi/spherical_harmonics.h"
+#include "methods/common/spherical_harmonics.h"
 #include "methods/lpi/shell_layout.h"
 
 namespace causticbench::lpi {
@@ -59,44 +59,16 @@ void shoot_light_samples(const Scene& build_scene, const VolumeSettings& setting
   }
   const size_t sample_count = volumes.samples.directions.size();
   std::vector<float> all_values(values_per_sample * sample_count, 0.0f);
-  // Fixed chunks, summed in chunk order a wave at a time: the same sums for any thread count, and
-  // memory for eight chunk accumulators rather than one per photon block.
-  const uint64_t chunk_size = 32768;
-  const size_t wave = 8;
-  std::vector<std::vector<float>> chunk_sums(wave, std::vector<float>(values_per_sample));
-  std::vector<PhotonStats> chunk_stats(wave);
-  std::vector<double> total(values_per_sample);
+  PhotonTrackSums sums(values_per_sample);
+  std::vector<double> total;
+  auto deposit = [&](const PathSegment& segment, float* values) { layout.deposit(segment, settings.orientation, values); };
   for (size_t sample = 0; sample < sample_count; ++sample) {
     PhotonLights lights;
     lights.add_directional(volumes.samples.directions[sample], Color(1.0f), 0.0);
     CausticPhotonTracer photon_tracer(tracer, PhotonTracerSettings{settings.seed}, lights.frames(), {0});
-    std::fill(total.begin(), total.end(), 0.0);
     const uint64_t photons = settings.photons_per_sample;
-    const uint64_t chunks = (photons + chunk_size - 1) / chunk_size;
     const uint64_t first_index = volumes.samples.seed_index(sample) << 32;
-    for (uint64_t wave_start = 0; wave_start < chunks; wave_start += wave) {
-      const size_t in_wave = static_cast<size_t>(std::min<uint64_t>(wave, chunks - wave_start));
-      parallel_blocks(in_wave, 1, [&](size_t slot, size_t, size_t) {
-        std::vector<float>& sums = chunk_sums[slot];  // zero: from the start, or the reduction below
-        chunk_stats[slot] = PhotonStats{};
-        const uint64_t begin = (wave_start + slot) * chunk_size, end = std::min(photons, begin + chunk_size);
-        auto deposit = [&](const PathSegment& segment) { layout.deposit(segment, settings.orientation, sums.data()); };
-        for (uint64_t i = begin; i < end; ++i) photon_tracer.trace_segments(first_index + i, chunk_stats[slot], deposit);
-      });
-      // Each value sums the chunks in chunk order whatever the thread count; split over values, the
-      // reduction runs on every core (it ran on one, between waves), and it zeroes the
-      // chunk sums for the next wave while they are in cache.
-      parallel_blocks(values_per_sample, 1 << 16, [&](size_t first, size_t last, size_t) {
-        for (size_t slot = 0; slot < in_wave; ++slot) {
-          float* sums = chunk_sums[slot].data();
-          for (size_t i = first; i < last; ++i) {
-            total[i] += sums[i];
-            sums[i] = 0.0f;
-          }
-        }
-      });
-      for (size_t slot = 0; slot < in_wave; ++slot) volumes.stats.add(chunk_stats[slot]);
-    }
+    total = sums.accumulate(photon_tracer, first_index, photons, deposit, volumes.stats);
     layout.normalise(static_cast<double>(photons), settings.orientation, total.data());
     float* output = all_values.data() + sample * values_per_sample;
     for (size_t i = 0; i < values_per_sample; ++i) output[i] = static_cast<float>(total[i]);

@@ -18,8 +18,8 @@
 #include "methods/common/build_space.h"
 #include "methods/lpi/light_samples.h"
 #include "methods/lpi/multires_layout.h"
-#include "methods/lpi/stored_values.h"
-#include "methods/lpi/volume_layout.h"
+#include "methods/common/stored_values.h"
+#include "methods/common/volume_layout.h"
 
 namespace causticbench::lpi {
 

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "methods/common/geodesic.h"
-#include "methods/lpi/volume_layout.h"
+#include "methods/common/volume_layout.h"
 
 namespace causticbench::lpi {
 

@@ -17,7 +17,7 @@
 #include "methods/lpi/environment.h"
 #include "methods/lpi/harmonic_storage.h"
 #include "methods/lpi/light_samples.h"
-#include "methods/lpi/spherical_harmonics.h"
+#include "methods/common/spherical_harmonics.h"
 #include "tests/test_support.h"
 
 using namespace causticbench;

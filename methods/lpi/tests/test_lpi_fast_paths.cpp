@@ -21,7 +21,7 @@
 #include "methods/common/simd_lanes.h"
 #include "methods/lifecycle.h"
 #include "store/build_cache.h"
-#include "methods/lpi/grid_layout.h"
+#include "methods/common/grid_layout.h"
 #include "methods/lpi/lookup.h"
 #include "methods/lpi/multires_layout.h"
 #include "methods/lpi/shell_layout.h"

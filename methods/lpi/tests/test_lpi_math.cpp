@@ -1,5 +1,5 @@
 // lpi's two math modules: the geodesic sphere with its point location (methods/common/geodesic.h) and
-// real spherical harmonics (methods/lpi/spherical_harmonics.h). Links only causticbench_core.
+// real spherical harmonics (methods/common/spherical_harmonics.h). Links only causticbench_core.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -14,7 +14,7 @@
 
 #include "core/sampling.h"
 #include "methods/common/geodesic.h"
-#include "methods/lpi/spherical_harmonics.h"
+#include "methods/common/spherical_harmonics.h"
 
 namespace causticbench::lpi {
 namespace {

@@ -17,7 +17,7 @@
 #include "methods/lpi/harmonic_storage.h"
 #include "methods/lpi/multires_layout.h"
 #include "methods/lpi/precompute.h"
-#include "methods/lpi/spherical_harmonics.h"
+#include "methods/common/spherical_harmonics.h"
 #include "methods/registry.h"
 #include "tests/test_support.h"
 

@@ -6,10 +6,10 @@
 
 #include <gtest/gtest.h>
 
-#include "methods/lpi/grid_layout.h"
+#include "methods/common/grid_layout.h"
 #include "methods/lpi/light_samples.h"
 #include "methods/lpi/shell_layout.h"
-#include "methods/lpi/stored_values.h"
+#include "methods/common/stored_values.h"
 
 using namespace causticbench;
 using namespace causticbench::lpi;

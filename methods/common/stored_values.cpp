@@ -1,4 +1,4 @@
-#include "methods/lpi/stored_values.h"
+#include "methods/common/stored_values.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-namespace causticbench::lpi {
+namespace causticbench {
 
 Precision parse_precision(const std::string& name) {
   if (name == "uint8") return Precision::uint8;
@@ -164,4 +164,4 @@ StoredValues StoredValues::from_raw(Precision precision, int channels, bool sign
   return stored;
 }
 
-}  // namespace causticbench::lpi
+}  // namespace causticbench

@@ -12,7 +12,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace causticbench::lpi {
+namespace causticbench {
 
 enum class Precision { uint8, float16, float32 };
 Precision parse_precision(const std::string& name);
@@ -206,4 +206,4 @@ inline float half_to_float(uint16_t half) {
   return value;
 }
 
-}  // namespace causticbench::lpi
+}  // namespace causticbench

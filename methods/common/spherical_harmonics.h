@@ -17,7 +17,7 @@
 
 #include "core/math.h"
 
-namespace causticbench::lpi {
+namespace causticbench {
 
 inline constexpr int kMaxBands = 10;
 
@@ -54,4 +54,4 @@ double reconstruct(int bands, const std::vector<double>& coefficients, const Vec
 // Per degree l, sum over m of c_lm^2: invariant under rotations of the function.
 std::vector<double> band_energies(int bands, const std::vector<double>& coefficients);
 
-}  // namespace causticbench::lpi
+}  // namespace causticbench

@@ -21,7 +21,7 @@
 #include "core/math.h"
 #include "core/photon_tracer.h"
 
-namespace causticbench::lpi {
+namespace causticbench {
 
 // paper: one RGB irradiance per sample, on the surface facing the object's centre, corrected by the
 // cosine to the receiver's normal (Section 3.2). vector: the RGB vector irradiance (three vectors,
@@ -105,4 +105,4 @@ inline void add_track(const PathSegment& segment, float length, const Vec3& samp
 // The piece [t_enter, t_exit] of a segment inside the ball (centre, radius); false when none.
 bool clip_to_ball(const PathSegment& segment, const Vec3& center, float radius, float& t_enter, float& t_exit);
 
-}  // namespace causticbench::lpi
+}  // namespace causticbench

@@ -8,9 +8,9 @@
 #include <array>
 #include <vector>
 
-#include "methods/lpi/volume_layout.h"
+#include "methods/common/volume_layout.h"
 
-namespace causticbench::lpi {
+namespace causticbench {
 
 class GridLayout final : public VolumeLayout {
  public:
@@ -72,4 +72,4 @@ inline Stencil GridLayout::stencil(const Vec3& position) const {
   return stencil;
 }
 
-}  // namespace causticbench::lpi
+}  // namespace causticbench

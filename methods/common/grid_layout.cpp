@@ -1,10 +1,10 @@
-#include "methods/lpi/grid_layout.h"
+#include "methods/common/grid_layout.h"
 
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
-namespace causticbench::lpi {
+namespace causticbench {
 
 bool clip_to_ball(const PathSegment& segment, const Vec3& center, float radius, float& t_enter, float& t_exit) {
   const Vec3 offset = segment.origin - center;
@@ -119,4 +119,4 @@ void GridLayout::normalise(double photons_emitted, Orientation orientation, doub
   for (size_t i = 0; i < count; ++i) values[i] *= factor;
 }
 
-}  // namespace causticbench::lpi
+}  // namespace causticbench

@@ -1,4 +1,4 @@
-#include "methods/lpi/spherical_harmonics.h"
+#include "methods/common/spherical_harmonics.h"
 
 #include <algorithm>
 #include <array>
@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace causticbench::lpi {
+namespace causticbench {
 
 namespace {
 
@@ -165,4 +165,4 @@ std::vector<double> band_energies(int bands, const std::vector<double>& coeffici
   return energies;
 }
 
-}  // namespace causticbench::lpi
+}  // namespace causticbench
