@@ -153,11 +153,18 @@ static void render_and_write(const RenderOptions& options, const Scene& scene, c
       {"memory_bytes", result.memory_bytes},
       {"counters", counters},
       {"method_record", result.method_record},
+      {"lost_flux", result.lost_flux ? nlohmann::json{{"fraction", result.lost_flux->fraction},
+                                                      {"what", result.lost_flux->what},
+                                                      {"knob", result.lost_flux->knob},
+                                                      {"advice", result.lost_flux->advice}}
+                                     : nlohmann::json(nullptr)},
       {"caustic_flux_on_receivers", masked_sum(result.caustic, result.gbuffer.receiver)},
       {"environment", environment_json(options.threads)},
       {"files", {"caustic.exr", "direct.exr", "gbuffer.exr", "composite.png", "caustic.png"}}};
   write_text_atomically((fs::path(out) / "record.json").string(), record.dump(2) + "\n");
   warn_if_reference_is_empty(options, result, direct);
+  if (result.lost_flux && result.lost_flux->fraction > kLostFluxWarning)
+    fmt::print(stderr, "warning: {} {}\n", options.method, describe_lost_flux(*result.lost_flux));
   fmt::print("wrote {}/caustic.exr, direct.exr, gbuffer.exr, composite.png, caustic.png, record.json\n", out);
 }
 

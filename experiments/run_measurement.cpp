@@ -201,6 +201,7 @@ RunOutcome measure_run(const Experiment& experiment, const RunSpec& run, const C
   record.peak_rss_bytes = static_cast<int64_t>(peak_rss_bytes());
   for (const auto& [name, value] : output.counters) record.counters[name] = value;
   record.method_record = output.method_record;
+  record.lost_flux = lost_flux_record(output.lost_flux);
   if (!empty_reference.empty()) {
     std::vector<int> frames;
     for (const FramePresence& entry : empty_reference) frames.push_back(entry.frame);

@@ -129,6 +129,7 @@ std::vector<SequenceOutput> play_sequence(CausticMethod& method, const std::vect
   std::vector<SequenceOutput> outputs(render_sets.size());
   for (SequenceOutput& output : outputs) {
     output.images.resize(frames.size());
+    output.lost_flux.resize(frames.size());
     for (size_t f = 0; f < frames.size(); ++f) output.timings.push_back(FrameTimings{frames[f]->index, {}, {}, {}});
   }
   const int passes = (protocol.warm_up ? 1 : 0) + std::max(1, protocol.repetitions);
@@ -163,6 +164,7 @@ std::vector<SequenceOutput> play_sequence(CausticMethod& method, const std::vect
           outputs[r].memory_bytes = method.memory_bytes();
           outputs[r].counters = method.counters();
           outputs[r].method_record = method.record();
+          outputs[r].lost_flux[f] = method.lost_flux(posed.context(), posed.gbuffer, render_sets[r]);
         }
       }
     }

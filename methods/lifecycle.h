@@ -100,6 +100,9 @@ struct SequenceOutput {
   size_t memory_bytes = 0;
   Counters counters;
   nlohmann::json method_record = nlohmann::json::object();
+  // Per frame, what the configuration loses (CausticMethod::lost_flux, measured untimed after the last
+  // pass's render).
+  std::vector<std::optional<LostFlux>> lost_flux;
 };
 
 // Plays `frames` on a prepared method with one set of frame knobs. For each frame, update() runs

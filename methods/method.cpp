@@ -37,4 +37,9 @@ std::optional<BrokenKnobRule> broken_knob_rule(const MethodInfo& info, const Par
   return std::nullopt;
 }
 
+std::string describe_lost_flux(const LostFlux& lost) {
+  return fmt::format("loses {:.1f} % of the caustic flux ({}){}", 100.0 * lost.fraction, lost.what,
+                     lost.advice.empty() ? "" : "; " + lost.advice);
+}
+
 }  // namespace causticbench

@@ -96,6 +96,20 @@ struct MemoryTerm {
   std::string formula;  // "64^3 cells x 3 channels x (4 x 1 light sample + 44) bytes"
 };
 
+// What a method's configuration cannot represent of one frame's caustic (docs/metrics.md, "Lost flux"):
+// the fraction of the frame's caustic flux it leaves out, what that flux is, and the knob that would
+// recover it. Runs that lose more than kLostFluxWarning are warned about by `run` and `render` and
+// marked in the report, so that a bad score is explained where it is read.
+struct LostFlux {
+  double fraction = 0.0;  // in [0, 1]
+  std::string what;       // "caustic flux whose first receiver hit lies outside the sampled ball"
+  std::string knob;       // the knob that would recover it ("volume_radius")
+  std::string advice;     // how ("set volume_radius: auto, or at least 4.2")
+};
+inline constexpr double kLostFluxWarning = 0.05;
+// "loses 12.3 % of the caustic flux (<what>); <advice>" for warnings and reports.
+std::string describe_lost_flux(const LostFlux& lost);
+
 // What prepare() works from: the scene, its rest pose (frame 0) with a ray tracer over it (to trace
 // photons or rays for any light direction, with CausticPhotonTracer's explicit lights), and the frame
 // indices that will be rendered, so that a method can precompute only what those frames need (a light
@@ -168,6 +182,13 @@ class CausticMethod {
   virtual std::vector<MemoryTerm> knob_memory(const PrepareContext& context, const ParamSet& knobs) const { return {}; }
   // Method-specific facts for the run record (e.g. the reference's estimated error).
   virtual nlohmann::json record() const { return nlohmann::json::object(); }
+  // What this configuration cannot represent of the frame's caustic (LostFlux); `gbuffer` is the one just
+  // rendered. Called by the lifecycle driver once per frame, after the last pass's render with these
+  // render knobs and outside the timed work, so that measuring it (probe photons, counts) costs the
+  // method's timings nothing. std::nullopt: nothing to report (the reference).
+  virtual std::optional<LostFlux> lost_flux(const FrameContext& frame, const GBuffer& gbuffer, const ParamSet& render) {
+    return std::nullopt;
+  }
 
   // Optional facets (nullptr: the method has none). A method that has one derives from it too and returns
   // `this`; the lifecycle driver, the runner and `render` ask for the facet rather than for optional

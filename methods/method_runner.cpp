@@ -64,6 +64,7 @@ FrameResult run_frame(const RenderRequest& request, const CheckedRequest& checke
   result.memory_bytes = method->memory_bytes();
   result.counters = method->counters();
   result.method_record = method->record();
+  result.lost_flux = outputs.front().lost_flux.front();
   if (!request.dump_folder.empty()) method->gpu()->dump_frame(result.gbuffer, knobs.render, result.caustic, request.dump_folder);
   if (direct) *direct = direct_irradiance(posed.tracer, result.gbuffer, direct_samples, 12345);
   return result;

@@ -46,6 +46,7 @@ struct FrameResult {
   size_t memory_bytes = 0;
   Counters counters;
   nlohmann::json method_record;
+  std::optional<LostFlux> lost_flux;  // what the configuration loses of this frame (CausticMethod::lost_flux)
 };
 
 // Poses the frame, builds the tracer and the G-buffer, then check/prepare/update/render, each phase

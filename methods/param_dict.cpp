@@ -12,20 +12,20 @@ namespace causticbench {
 ParamSpec ParamSpec::integer(std::string name, int64_t fallback, double min_value, double max_value,
                              std::string meaning, ParamPhase phase) {
   return ParamSpec{std::move(name), ParamType::integer, fallback, min_value, max_value, {}, std::move(meaning), phase,
-                   std::nullopt, true};
+                   std::nullopt, true, std::nullopt, false};
 }
 ParamSpec ParamSpec::real(std::string name, double fallback, double min_value, double max_value, std::string meaning,
                           ParamPhase phase) {
   return ParamSpec{std::move(name), ParamType::real, fallback, min_value, max_value, {}, std::move(meaning), phase,
-                   std::nullopt, true};
+                   std::nullopt, true, std::nullopt, false};
 }
 ParamSpec ParamSpec::boolean(std::string name, bool fallback, std::string meaning, ParamPhase phase) {
-  return ParamSpec{std::move(name), ParamType::boolean, fallback, 0, 1, {}, std::move(meaning), phase, std::nullopt, true};
+  return ParamSpec{std::move(name), ParamType::boolean, fallback, 0, 1, {}, std::move(meaning), phase, std::nullopt, true, std::nullopt, false};
 }
 ParamSpec ParamSpec::choice(std::string name, std::string fallback, std::vector<std::string> choices,
                             std::string meaning, ParamPhase phase) {
   return ParamSpec{std::move(name), ParamType::choice, std::move(fallback), 0, 0, std::move(choices),
-                   std::move(meaning), phase, std::nullopt, true};
+                   std::move(meaning), phase, std::nullopt, true, std::nullopt, false};
 }
 
 std::string phase_name(ParamPhase phase) {
@@ -44,6 +44,12 @@ ParamSpec& ParamSpec::only_when(std::string knob, std::vector<std::string> value
 
 ParamSpec& ParamSpec::or_special(double value) {
   special_value = value;
+  return *this;
+}
+
+ParamSpec& ParamSpec::auto_by_default() {
+  accepts_auto = true;
+  default_value = std::string("auto");
   return *this;
 }
 
@@ -71,6 +77,7 @@ std::string ParamSpec::range_text() const {
   switch (type) {
     case ParamType::integer:
     case ParamType::real:
+      if (accepts_auto) return fmt::format("auto or [{}, {}]", min_value, max_value);
       return special_value ? fmt::format("{} or [{}, {}]", *special_value, min_value, max_value)
                            : fmt::format("[{}, {}]", min_value, max_value);
     case ParamType::boolean: return "true, false";
@@ -193,15 +200,20 @@ ParamSet ParamDict::resolve(const std::vector<ParamSpec>& specs, const std::stri
       }
       case ParamType::integer:
       case ParamType::real: {
+        if (spec.accepts_auto && text == "auto") {
+          result.set(spec.name, std::string("auto"));
+          break;
+        }
         // Decimal only, as the YAML reader reads numbers: strtod alone would also take hex ("0x10"),
         // leading blanks and "infinity", so that --set and a YAML file would disagree on what is a number.
         static const std::regex decimal(R"([+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?)");
-        if (!std::regex_match(text, decimal)) fail(spec.type == ParamType::integer ? "an integer" : "a decimal number");
+        if (!std::regex_match(text, decimal))
+          fail(std::string(spec.accepts_auto ? "auto or " : "") + (spec.type == ParamType::integer ? "an integer" : "a decimal number"));
         double number = std::strtod(text.c_str(), nullptr);
         if (!std::isfinite(number)) fail("a finite number");
         bool special = spec.special_value && number == *spec.special_value;
         if (!special && (number < spec.min_value || number > spec.max_value))
-          fail(spec.special_value ? spec.range_text() : "a value in " + spec.range_text());
+          fail(spec.special_value || spec.accepts_auto ? spec.range_text() : "a value in " + spec.range_text());
         if (spec.type == ParamType::integer) {
           if (std::floor(number) != number) fail("an integer");
           result.set(spec.name, static_cast<int64_t>(number));

@@ -53,6 +53,9 @@ struct ParamSpec {
   // A numeric knob's one value outside [min_value, max_value] that means something of its own (pinhole's
   // `epsilon: -1`, "automatic"); values between it and the range are refused, not read as it.
   std::optional<double> special_value;
+  // A numeric knob whose value is derived from the scene at prepare() unless set: it also takes the word
+  // `auto` (its default), which the resolved ParamSet holds as the text "auto" (ParamSet::is_auto).
+  bool accepts_auto = false;
 
   static ParamSpec integer(std::string name, int64_t fallback, double min_value, double max_value, std::string meaning,
                            ParamPhase phase);
@@ -68,6 +71,8 @@ struct ParamSpec {
   ParamSpec& unkeyed_at_default();
   // Sets special_value; returns *this.
   ParamSpec& or_special(double value);
+  // Makes `auto` a value of this numeric knob and its default (accepts_auto); returns *this.
+  ParamSpec& auto_by_default();
 
   std::string type_name() const;
   std::string range_text() const;
@@ -84,6 +89,8 @@ class ParamSet {
   double real(const std::string& name) const;
   bool boolean(const std::string& name) const;
   const std::string& text(const std::string& name) const;
+  // A knob declared with auto_by_default() that holds `auto` rather than a number.
+  bool is_auto(const std::string& name) const { return std::holds_alternative<std::string>(get(name)); }
   void set(const std::string& name, ParamValue value) { values_[name] = std::move(value); }
   bool has(const std::string& name) const { return values_.count(name) > 0; }
   const std::map<std::string, ParamValue>& values() const { return values_; }

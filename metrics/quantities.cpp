@@ -66,6 +66,10 @@ std::vector<QuantityInfo> make_measured_quantities() {
   all.push_back(runner_quantity("peak_rss_bytes", K::size, D::lower, "bytes",
                                 "peak resident memory of the process when the run was measured", S::record,
                                 "peak_rss_bytes"));
+  all.push_back(runner_quantity("lost_flux", K::count, D::lower, "fraction",
+                                "the largest fraction over the frames of the caustic flux the method's configuration "
+                                "cannot represent (docs/metrics.md, \"Lost flux\"): its own count, measured untimed",
+                                S::record, "lost_flux"));
   all.push_back(runner_quantity("receiver_pixels", K::count, D::none, "pixels",
                                 "receiver pixels of the G-buffer in the first frame (the scene's, not the method's)",
                                 S::record, "receiver_pixels"));

@@ -30,7 +30,7 @@ enum class QuantitySource {
   metrics,   // "metrics": the mean over frames (or the sequence's value)
   timings,   // "timings": the median over timed passes (`field` names it, e.g. frame_ms_median)
   prepare,   // "prepare": the build's own time (prepare_seconds)
-  record,    // a top-level number of the record (`field`: memory_bytes, peak_rss_bytes, receiver_pixels)
+  record,    // a top-level number of the record (`field`: memory_bytes, peak_rss_bytes, receiver_pixels, lost_flux)
   counters,  // "counters": the method's counter of that name
 };
 

@@ -65,6 +65,7 @@ std::string results_csv(const Report& report) {
   header.push_back("metrics_undefined");
   for (const auto& name : timings) header.push_back(name);
   for (const char* name : sizes) header.push_back(name);
+  header.push_back("lost_flux");
   for (const auto& name : counters) header.push_back("counter." + name);
   for (const char* name : {"pareto_front", "reference_key", "git_revision", "record_version"}) header.push_back(name);
 
@@ -107,6 +108,7 @@ std::string results_csv(const Report& report) {
     cells.push_back(measured ? number_cell(record.prepare.prepare_seconds) : "");
     cells.push_back(measured ? std::to_string(record.memory_bytes) : "");
     cells.push_back(measured ? std::to_string(record.peak_rss_bytes) : "");
+    cells.push_back(measured && record.lost_flux ? csv_value(json(record.lost_flux->fraction)) : "");
     for (const auto& name : counters) {
       auto found = record.counters.find(name);
       cells.push_back(found == record.counters.end() ? "" : number_cell(found->second));

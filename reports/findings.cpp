@@ -129,6 +129,32 @@ std::vector<std::string> findings(const Report& report, bool html) {
                                   fmt::format("{:.3g}", ratio)));
     }
   }
+  // The baselines (metrics/baselines.h): what showing nothing scores, who does not beat it, and the metrics
+  // on which it beats most runs.
+  for (size_t v = 0; v < report.variants.size(); ++v) {
+    const Variant& variant = report.variants[v];
+    const std::optional<double> black = variant.black(report.primary);
+    if (!black) continue;
+    std::vector<std::string> losers;
+    for (size_t i : report.ok_runs())
+      if (report.runs[i].variant_index == v && no_better_than_black(report, report.runs[i])) losers.push_back(name(i));
+    std::string blurred;
+    if (variant.baselines.size() > 1 && variant.baselines[1].values.count(report.primary))
+      blurred = fmt::format(", the reference blurred {}", num(variant.baselines[1].values.at(report.primary)));
+    lines.push_back(fmt::format("Baselines{}: a black image scores {} {}{}; {}.",
+                                report.multi() ? " (variant " + variant.name + ")" : "", report.primary, num(*black),
+                                blurred,
+                                losers.empty() ? "every run beats it"
+                                               : fmt::format("{} run{} do{} not beat it: {}", losers.size(),
+                                                             losers.size() == 1 ? "" : "s", losers.size() == 1 ? "es" : "",
+                                                             join(losers, ", "))));
+  }
+  for (const auto& [metric, count] : black_wins(report)) {
+    if (count.scored < 2 || 2 * count.beaten <= count.scored) continue;
+    lines.push_back(fmt::format("On {} the black image scores as well as or better than {} of {} runs: that metric does "
+                                "not rank these caustics (docs/metrics.md, \"Which metric for which question\").",
+                                metric, count.beaten, count.scored));
+  }
   // What each frame budget buys (the equal-time view; its table is under "Equal time and equal error").
   for (const std::string& line : budget_lines(report)) lines.push_back(html ? html_escape(line) : md_escape(line));
   return lines;

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "reports/report_parts.h"
 
@@ -112,6 +113,30 @@ std::vector<json> floor_layers(const Report& report, const std::string& field, s
     std::string text = report.multi() ? fmt::format("reference error {} {}", variant.name, num(floor))
                                       : "reference error " + num(floor);
     for (json& layer : rule_layers(field, floor, text, "#666")) layers.push_back(layer);
+  }
+  return layers;
+}
+
+std::vector<BaselineRule> baseline_rules(const Report& report, const std::string& metric) {
+  std::vector<BaselineRule> rules;
+  for (const Variant& variant : report.variants) {
+    for (const BaselineScores& baseline : variant.baselines) {
+      auto found = baseline.values.find(metric);
+      if (found == baseline.values.end() || !std::isfinite(found->second)) continue;
+      const bool black = &baseline == &variant.baselines.front();
+      rules.push_back({found->second,
+                       fmt::format("{}{} {}", baseline.name, report.multi() ? " " + variant.name : "", num(found->second)),
+                       black ? "#111" : "#b07d00"});
+    }
+  }
+  return rules;
+}
+
+std::vector<json> baseline_layers(const std::vector<BaselineRule>& rules, const std::string& field, bool log) {
+  std::vector<json> layers;
+  for (const BaselineRule& rule : rules) {
+    if (log && !(rule.value > 0.0)) continue;
+    for (json& layer : rule_layers(field, rule.value, rule.text, rule.colour)) layers.push_back(layer);
   }
   return layers;
 }

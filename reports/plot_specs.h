@@ -25,6 +25,15 @@ json tooltip(const Report& report);
 // The reference error rules of the error plots (primary metric relMSE only), one per variant with
 // a positive floor; the floors are appended to `values` (for the choice of a log axis).
 std::vector<json> floor_layers(const Report& report, const std::string& field, std::vector<double>& values);
+// The baselines' values of `metric` (metrics/baselines.h), one rule per variant and baseline with a value.
+struct BaselineRule {
+  double value;
+  std::string text;
+  std::string colour;
+};
+std::vector<BaselineRule> baseline_rules(const Report& report, const std::string& metric);
+// Their dashed rules; on a log axis a rule at a value <= 0 cannot be drawn and is left out.
+std::vector<json> baseline_layers(const std::vector<BaselineRule>& rules, const std::string& field, bool log);
 // Points of several variants are told apart by their shape.
 void add_variant_shape(const Report& report, json& encoding);
 

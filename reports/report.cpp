@@ -45,6 +45,7 @@ void copy_vendor(const fs::path& target) {
 ReportSummary write_report(const std::string& experiment_folder) {
   Report report;
   load_report(report, experiment_folder);
+  score_variant_baselines(report);
   compute_fronts(report);
   compute_views(report);
   evaluate_claims(report);

@@ -24,6 +24,7 @@
 
 #include "store/result_paths.h"
 #include "store/run_record.h"
+#include "metrics/baselines.h"
 #include "metrics/metrics.h"
 #include "reports/cost_views.h"
 #include "methods/quantity_registry.h"
@@ -96,6 +97,15 @@ struct Variant {
   json reference;              // the reference's record.json, or null
   std::optional<double> reference_error;
   json history = json::array();
+  // The trivial baselines scored against this variant's reference (metrics/baselines.h), in
+  // baselines() order; empty when its reference images cannot be read.
+  std::vector<BaselineScores> baselines;
+  // The black image's value of a metric, when scored and defined.
+  std::optional<double> black(const std::string& metric) const {
+    if (baselines.empty()) return std::nullopt;
+    auto found = baselines.front().values.find(metric);
+    return found == baselines.front().values.end() ? std::nullopt : std::optional<double>(found->second);
+  }
 };
 
 // Pareto fronts (indices into Report::runs) within one variant: over all methods, and per method.

@@ -21,6 +21,18 @@ namespace causticbench::report_detail {
 // InputError when `folder_text` is not an experiment results folder.
 void load_report(Report& report, const std::string& folder_text);
 
+// report_baselines.cpp: each variant's baselines (metrics/baselines.h) scored on the report's metrics
+// against its reference images; a variant whose images cannot be read gets none, and a note says so.
+void score_variant_baselines(Report& report);
+// A run whose primary metric is no better than the black image's (ties count): it showed nothing the
+// primary metric can see.
+bool no_better_than_black(const Report& report, const Run& run);
+// Per metric, how many of the ok scored runs the black image beats or ties, and how many were scored.
+struct BlackWins {
+  size_t beaten = 0, scored = 0;
+};
+std::map<std::string, BlackWins> black_wins(const Report& report);
+
 // pareto_fronts.cpp: report.fronts, within each variant, on the primary metric against frame time.
 void compute_fronts(Report& report);
 

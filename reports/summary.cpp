@@ -43,6 +43,8 @@ json summary_json(const StudySummary& summary) {
       json entry = {{"budget_ms", winner.budget_ms}, {"best", nullptr}};
       if (winner.point) entry["best"] = point_json(summary, scene, *winner.point);
       else entry["none_reached"] = winner.fastest ? json(point_json(summary, scene, *winner.fastest)) : json(nullptr);
+      entry["black"] = winner.black ? json(*winner.black) : json(nullptr);
+      entry["beats_black"] = winner.beats_black;
       budgets.push_back(entry);
     }
     json breaks = json::array();
@@ -108,7 +110,9 @@ SummaryFiles write_summary(const std::vector<std::string>& experiment_folders, c
     std::vector<std::string> parts;
     for (const BudgetWinner& winner : summary.winners) {
       if (winner.scene != s) continue;
-      std::string best = winner.point ? summary.views(summary.scenes[s]).points[*winner.point].method : "none";
+      std::string best = !winner.point        ? "none"
+                         : !winner.beats_black ? "none beats black"
+                                               : summary.views(summary.scenes[s]).points[*winner.point].method;
       parts.push_back(budget_text(winner.budget_ms) + " " + best);
     }
     files.headlines.push_back(fmt::format("{} ({}): {}", summary.scenes[s].title,

@@ -28,6 +28,10 @@ std::string point_text(const StudySummary& summary, const SummaryScene& scene, s
 
 std::string winner_text(const StudySummary& summary, const BudgetWinner& winner) {
   const SummaryScene& scene = summary.scenes[winner.scene];
+  if (winner.point && !winner.beats_black)
+    return fmt::format("no winner: the best, {}, is not {:.0f} % better than a black image ({} {})",
+                       point_text(summary, scene, *winner.point), 100.0 * kBaselineMargin,
+                       summary.report(scene).primary, num(*winner.black));
   if (winner.point) return point_text(summary, scene, *winner.point);
   if (winner.fastest) {
     const CostPoint& fastest = summary.views(scene).points[*winner.fastest];
@@ -44,12 +48,14 @@ Table budgets_table(const StudySummary& summary) {
   for (const BudgetWinner& winner : summary.winners) {
     const SummaryScene& scene = summary.scenes[winner.scene];
     const Report& report = summary.report(scene);
-    std::string method =
-        winner.point ? summary.views(scene).points[*winner.point].method : std::string("none reached");
+    std::string method = !winner.point        ? std::string("none reached")
+                         : !winner.beats_black ? std::string("none beats black")
+                                               : summary.views(scene).points[*winner.point].method;
     table.rows.push_back({{scene.title},
                           {report.primary + " " + direction_arrow(report.primary)},
                           {budget_text(winner.budget_ms), false, true},
-                          {method, winner.point.has_value(), false, !winner.point},
+                          {method, winner.point.has_value() && winner.beats_black, false,
+                           !winner.point || !winner.beats_black},
                           {winner_text(summary, winner)}});
   }
   return table;

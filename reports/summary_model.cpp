@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -48,6 +49,20 @@ std::optional<size_t> row_winner(const Report& report, const VariantViews& views
   }
   return best;
 }
+
+}  // namespace
+
+bool beats_black_by_margin(const std::string& metric, double value, double black) {
+  if (!std::isfinite(value)) return false;
+  const std::optional<QuantityInfo> info = find_quantity(metric);
+  if (info && info->target)
+    return std::fabs(value - *info->target) <= (1.0 - kBaselineMargin) * std::fabs(black - *info->target);
+  const double margin = kBaselineMargin * std::fabs(black);
+  if (info && info->direction == QuantityDirection::higher) return value >= black + margin;
+  return value <= black - margin;
+}
+
+namespace {
 
 std::optional<size_t> fastest_point(const VariantViews& views) {
   std::optional<size_t> fastest;
@@ -133,6 +148,7 @@ StudySummary summarize_study(const std::vector<std::string>& folders) {
       throw InputError(fmt::format("{}: named twice; expected each experiment folder once", folder));
     Report report;
     load_report(report, folder);
+    score_variant_baselines(report);
     compute_fronts(report);
     compute_views(report);
     evaluate_claims(report);
@@ -162,6 +178,9 @@ StudySummary summarize_study(const std::vector<std::string>& folders) {
     for (const EqualTimeRow& row : views.equal_time) {
       BudgetWinner winner{s, row.budget_ms, row_winner(report, views, row), std::nullopt};
       if (!winner.point) winner.fastest = fastest_point(views);
+      winner.black = report.variants[scene.variant].black(report.primary);
+      if (winner.point && winner.black)
+        winner.beats_black = beats_black_by_margin(report.primary, views.points[*winner.point].error, *winner.black);
       summary.winners.push_back(winner);
     }
   }
@@ -171,7 +190,8 @@ StudySummary summarize_study(const std::vector<std::string>& folders) {
     standing.method = method;
     for (size_t w = 0; w < summary.winners.size(); ++w) {
       const BudgetWinner& winner = summary.winners[w];
-      if (winner.point && summary.views(summary.scenes[winner.scene]).points[*winner.point].method == method)
+      if (winner.point && winner.beats_black &&
+          summary.views(summary.scenes[winner.scene]).points[*winner.point].method == method)
         standing.wins.push_back(w);
     }
     for (size_t s = 0; s < summary.scenes.size(); ++s) {

@@ -28,7 +28,17 @@ struct BudgetWinner {
   double budget_ms = 0.0;
   std::optional<size_t> point;     // into the variant's VariantViews::points
   std::optional<size_t> fastest;   // none reached: the fastest point of all, to say by how much
+  std::optional<double> black;     // the black image's primary metric in that scene (metrics/baselines.h)
+  // The best run beats the black image by at least kBaselineMargin (or no black score is known): only
+  // then does its method "win" the budget.
+  bool beats_black = true;
 };
+
+// How much better than a black image a budget's best run must be on the primary metric to win it: a
+// tenth of the black image's value (for relMSE 0.9 x black's or less; for PSNR 1.1 x or more).
+inline constexpr double kBaselineMargin = 0.1;
+// Whether `value` is better than `black` by kBaselineMargin of |black| in the metric's direction.
+bool beats_black_by_margin(const std::string& metric, double value, double black);
 
 // Where a method fails in one scene: failed runs (a scene it refuses fails every run before any work),
 // or the worst best-error of the methods measured there.

@@ -70,6 +70,11 @@ Table results_table(const Report& report) {
     const MetricInfo* info = metric_info(metric);
     table.header_notes.push_back(direction_text(metric) + (info ? ": " + info->definition : ""));
   }
+  table.header.push_back("lost flux");
+  table.header_notes.push_back(fmt::format(
+      "the largest fraction over the frames of the caustic flux the run's configuration cannot represent, counted by "
+      "the method (docs/metrics.md, Lost flux); marked above {:.0f} %: its error is explained there",
+      100.0 * kLostFluxWarning));
   for (const auto& column : kTimingColumns) {
     table.header.push_back(column[1]);
     table.header_notes.push_back(std::string("timings.") + column[0]);
@@ -109,6 +114,11 @@ Table results_table(const Report& report) {
     std::string label = run.label;
     if (report.on_overall_front(i)) label += " \u25c6";
     if (run.empty_reference) label += " (empty reference)";
+    const std::optional<LostFluxRecord>& lost = run.record.lost_flux;
+    const bool loses = lost && lost->fraction > kLostFluxWarning;
+    if (loses) label += fmt::format(" (loses {:.0f} % of the caustic: {})", 100.0 * lost->fraction, lost->knob);
+    const bool black_is_as_good = no_better_than_black(report, run);
+    if (black_is_as_good) label += " (no better than a black image)";
     row.push_back({run.method});
     row.push_back({label});
     row.push_back({run.swept_text()});
@@ -122,8 +132,11 @@ Table results_table(const Report& report) {
       Cell cell = metric_cell(run, metric);
       if (finite(value) && best.count(metric) && !quantity_better(metric, best[metric], *value)) cell.best = true;
       if (metric == "nonfinite_pixels" && value && *value > 0) cell.warn = true;
+      if (metric == report.primary && black_is_as_good) cell.warn = true;
       row.push_back(cell);
     }
+    Cell lost_cell{lost ? fmt::format("{:.1f} %", 100.0 * lost->fraction) : "\u2014", false, true, loses};
+    row.push_back(lost_cell);
     for (const auto& column : kTimingColumns) {
       auto value = run.timing(column[0]);
       Cell cell{value ? num(*value) : "\u2014", false, true};
@@ -138,6 +151,22 @@ Table results_table(const Report& report) {
     auto rss = run.quantity("peak_rss_bytes");
     row.push_back({rss ? bytes_text(*rss) : "\u2014", false, true});
     table.rows.push_back(row);
+  }
+  // The baselines of each variant (metrics/baselines.h), scored like a run: what showing nothing, or the
+  // reference's caustic blurred, would score. The columns past the metrics do not apply to them.
+  for (const Variant& variant : report.variants) {
+    for (const BaselineScores& scores : variant.baselines) {
+      std::vector<Cell> row = {{"baseline"}, {scores.name}, {scores.detail}};
+      if (report.multi()) row.insert(row.end(), {Cell{variant.name}, Cell{"\u2014", false, true}});
+      for (const std::string& metric : report.metrics) {
+        auto value = scores.values.find(metric);
+        Cell cell{value != scores.values.end() ? num(value->second) : "\u2014", false, true};
+        if (value == scores.values.end() && scores.undefined.count(metric)) cell.undefined = scores.undefined.at(metric);
+        row.push_back(cell);
+      }
+      while (row.size() < table.header.size()) row.push_back({"\u2014", false, true});
+      table.rows.push_back(row);
+    }
   }
   return table;
 }

@@ -115,12 +115,17 @@ void make_tradeoff_plot(Report& report, const Tradeoff& tradeoff, bool first) {
   }
   if (xs.empty()) return;
   std::vector<json> floors = tradeoff.y == report.primary ? floor_layers(report, "y", ys) : std::vector<json>{};
+  // What a black image and the blurred reference score on y: a run above the black line shows nothing y sees.
+  const std::vector<BaselineRule> baselines = baseline_rules(report, tradeoff.y);
+  for (const BaselineRule& rule : baselines)
+    if (rule.value > 0.0) ys.push_back(rule.value);
   bool log_x = all_positive(xs), log_y = all_positive(ys);
   add_front_rows(report, tradeoff.fronts, row_of, lines, bands);
   json x = axis("x", axis_title(tradeoff.x, log_x), log_x), y = axis("y", axis_title(tradeoff.y, log_y), log_y);
   json layers = front_layers(report, x, y, tradeoff_tooltip(report, tradeoff.x, tradeoff.y), dominated, front_points,
                              lines, bands);
   for (json& layer : floors) layers.push_back(layer);
+  for (json& layer : baseline_layers(baselines, "y", log_y)) layers.push_back(layer);
   json spec = base_spec(fmt::format("Trade-off: {} versus {}", tradeoff.y, tradeoff.x),
                         report.multi() ? "each point one run, shape = scene variant; filled = on its method's Pareto "
                                          "front within its variant, hollow = dominated; grey bands = fronts over all "
@@ -136,6 +141,9 @@ void make_tradeoff_plot(Report& report, const Tradeoff& tradeoff, bool first) {
   if (report.multi())
     caption += " Fronts are computed within each scene variant: a run competes only with runs of its own variant.";
   if (!floors.empty()) caption += " Below the dashed reference error the reference cannot tell errors apart.";
+  if (!baselines.empty())
+    caption += " The dashed black line is what a black image scores on y, the amber one the reference blurred "
+               "(docs/metrics.md, \"Baselines\"): a run no better than the black line shows nothing y can see.";
   std::string id = first && tradeoff.x == "frame_ms" && tradeoff.y == report.primary
                        ? "plot-tradeoff"
                        : "plot-tradeoff-" + file_safe(tradeoff.x) + "-" + file_safe(tradeoff.y);

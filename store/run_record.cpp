@@ -118,6 +118,17 @@ json frame_json(const FrameRecord& frame) {
 
 }  // namespace
 
+std::optional<LostFluxRecord> lost_flux_record(const std::vector<std::optional<LostFlux>>& frames) {
+  const std::optional<LostFlux>* worst = nullptr;
+  for (const std::optional<LostFlux>& frame : frames)
+    if (frame && (!worst || frame->fraction > (*worst)->fraction)) worst = &frame;
+  if (!worst) return std::nullopt;
+  LostFluxRecord record{(*worst)->fraction, {}, (*worst)->what, (*worst)->knob, (*worst)->advice};
+  for (const std::optional<LostFlux>& frame : frames)
+    record.frames.push_back(frame ? frame->fraction : std::numeric_limits<double>::quiet_NaN());
+  return record;
+}
+
 std::optional<double> RunTimings::field(const std::string& name) const {
   if (name == "update_ms_min") return update_ms_min;
   if (name == "update_ms_median") return update_ms_median;
@@ -219,6 +230,11 @@ RunRecord RunRecord::from_json(const json& original) {
   record.peak_rss_bytes = static_cast<int64_t>(in.number_or("peak_rss_bytes", 0.0));
   record.counters = in.number_map("counters");
   record.method_record = in.has("method_record") ? in.at("method_record") : json::object();
+  if (in.has("lost_flux")) {
+    FieldReader lost(in.object("lost_flux"), "lost_flux");
+    record.lost_flux = LostFluxRecord{lost.number("fraction"), lost.numbers_or_empty("frames"), lost.string_or("what", ""),
+                                      lost.string_or("knob", ""), lost.string_or("advice", "")};
+  }
   record.images = in.any_or_null("images");
   record.reference_images = in.any_or_null("reference_images");
   if (in.has("reference_converged")) {
@@ -271,6 +287,12 @@ json RunRecord::to_json() const {
   out["peak_rss_bytes"] = peak_rss_bytes;
   out["counters"] = counters;
   out["method_record"] = method_record;
+  if (lost_flux) {
+    json frames_json = json::array();
+    for (double value : lost_flux->frames) frames_json.push_back(std::isfinite(value) ? json(value) : json());
+    out["lost_flux"] = {{"fraction", lost_flux->fraction}, {"frames", frames_json}, {"what", lost_flux->what},
+                        {"knob", lost_flux->knob}, {"advice", lost_flux->advice}};
+  }
   if (!images.is_null()) out["images"] = images;
   if (!reference_images.is_null()) out["reference_images"] = reference_images;
   if (reference_converged) out["reference_converged"] = *reference_converged;
@@ -297,6 +319,7 @@ std::optional<double> RunRecord::quantity(const std::string& name) const {
       if (info->field == "memory_bytes") value = static_cast<double>(memory_bytes);
       else if (info->field == "peak_rss_bytes") value = static_cast<double>(peak_rss_bytes);
       else if (info->field == "receiver_pixels" && receiver_pixels) value = static_cast<double>(*receiver_pixels);
+      else if (info->field == "lost_flux" && lost_flux) value = lost_flux->fraction;
       break;
     case QuantitySource::counters: {
       auto found = counters.find(name);

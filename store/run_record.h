@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "methods/method.h"
+
 namespace causticbench {
 
 // Version 1: records before "record_version" (no git revision, no reference settings).
@@ -53,6 +55,18 @@ struct PrepareRecord {
   std::string warning;              // recomputed: why the stored build was not used
 };
 
+// What the run's configuration could not represent (methods/method.h, LostFlux): the largest fraction
+// over its frames, each frame's (NaN where a frame reported none), and the worst frame's explanation.
+struct LostFluxRecord {
+  double fraction = 0.0;
+  std::vector<double> frames;
+  std::string what, knob, advice;
+};
+
+// The record of the lost flux of a run's frames (CausticMethod::lost_flux per frame); none when no frame
+// reported one.
+std::optional<LostFluxRecord> lost_flux_record(const std::vector<std::optional<LostFlux>>& frames);
+
 struct RunRecord {
   int record_version = kRunRecordVersion;
   std::string key, status = "ok", error, method, label;
@@ -77,6 +91,7 @@ struct RunRecord {
   int64_t memory_bytes = 0, peak_rss_bytes = 0;
   std::map<std::string, double> counters;
   nlohmann::json method_record = nlohmann::json::object();
+  std::optional<LostFluxRecord> lost_flux;  // methods that report it (not the reference)
   nlohmann::json images;            // {"frame_0000.exr": {"bytes", "xxhash"}}: set by the store
   nlohmann::json reference_images;  // the reference images it was measured against
   std::optional<bool> reference_converged;  // empty: written before the flag (taken as converged)

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "core/gbuffer.h"
 #include "core/image.h"
 #include "store/run_record.h"
 #include "metrics/metrics.h"
@@ -225,6 +226,18 @@ class ReportTest : public ::testing::Test {
                {{"method", "reference"}, {"passes", 8}, {"seconds", 3.2}, {"error_estimate", 5e-4}, {"history", history}});
     fs::create_directories(reference);
     write_exr(blob(0.0), (reference / "frame_0000.exr").string());
+    // Its G-buffer as the reference cache stores it (GBuffer::to_image): every pixel a receiver. The
+    // report scores its baselines against it.
+    GBuffer gbuffer;
+    gbuffer.width = 384;
+    gbuffer.height = 288;
+    gbuffer.position.assign(gbuffer.pixel_count(), Vec3(0.0f));
+    gbuffer.normal.assign(gbuffer.pixel_count(), Vec3(0.0f, 1.0f, 0.0f));
+    gbuffer.albedo.assign(gbuffer.pixel_count(), Color(0.8f));
+    gbuffer.object.assign(gbuffer.pixel_count(), 0);
+    gbuffer.receiver.assign(gbuffer.pixel_count(), 1);
+    gbuffer.footprint.assign(gbuffer.pixel_count(), 0.01f);
+    write_exr(gbuffer.to_image(), (reference / "gbuffer_0000.exr").string());
 
     for (const FakeRun& run : runs) write_run(run);
   }

@@ -193,6 +193,8 @@ std::optional<std::string> other_value(const ParamSpec& spec, const ParamValue& 
     }
     case causticbench::ParamType::integer:
     case causticbench::ParamType::real: {
+      // A numeric knob at `auto` (ParamSpec::auto_by_default): any number in its range is another value.
+      if (std::holds_alternative<std::string>(current)) return fmt::format("{}", std::clamp(1.0, spec.min_value, spec.max_value));
       double value = spec.type == causticbench::ParamType::integer ? static_cast<double>(std::get<int64_t>(current)) : std::get<double>(current);
       if (value == 0.0) return std::nullopt;
       for (double factor : {2.0, 0.5}) {

@@ -138,8 +138,8 @@ TEST(MemoryCost, PhotonBatchesGrowAsDeclared) {
 
 TEST(MemoryCost, PinholeSamplesAndLightMapGrowAsDeclared) {
   for (const CostCase& cost : std::vector<CostCase>{
-           {"samples", "pinhole", "ring.yaml", {}, {"samples=100000"}, {"samples=1000000"}},
-           {"environment_resolution", "pinhole", "ring.yaml", {"samples=1000"}, {"environment_resolution=256"},
+           {"samples", "pinhole", "ring.yaml", {"filtering=none"}, {"samples=100000"}, {"samples=1000000"}},
+           {"environment_resolution", "pinhole", "ring.yaml", {"samples=1000", "filtering=none"}, {"environment_resolution=256"},
             {"environment_resolution=1024"}},
            {"environment_resolution, own filter", "pinhole", "ring.yaml", {"samples=1000", "filtering=anisotropic"},
             {"environment_resolution=256"}, {"environment_resolution=768"}},

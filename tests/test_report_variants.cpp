@@ -284,7 +284,7 @@ TEST_F(VariantReportTest, ParetoFrontsAreWithinEachVariant) {
 
   // The table marks the fronts and the fastest frame within each variant.
   std::string md = read_text(summary.markdown);
-  EXPECT_NE(md.find("| pinhole | pinhole samples=1000 @192x144 \u25c6 | samples=1000 | 192x144 | 12000 | 0.03 | "
+  EXPECT_NE(md.find("| pinhole | pinhole samples=1000 @192x144 \u25c6 | samples=1000 | 192x144 | 12000 | 0.03 | \u2014 | "
                     "**26** |"),
             std::string::npos)
       << md;

@@ -16,10 +16,10 @@ constexpr size_t kWave = 8;             // chunks traced at once
 PhotonTrackSums::PhotonTrackSums(size_t values)
     : values_(values), chunk_sums_(kWave, std::vector<float>(values)), chunk_stats_(kWave), total_(values) {}
 
-const std::vector<double>& PhotonTrackSums::accumulate(const CausticPhotonTracer& tracer, uint64_t first_index,
-                                                       uint64_t photons,
-                                                       const std::function<void(const PathSegment&, float*)>& deposit,
-                                                       PhotonStats& stats) {
+std::vector<double>& PhotonTrackSums::accumulate(const CausticPhotonTracer& tracer, uint64_t first_index,
+                                                 uint64_t photons,
+                                                 const std::function<void(const PathSegment&, float*)>& deposit,
+                                                 PhotonStats& stats) {
   std::fill(total_.begin(), total_.end(), 0.0);
   const uint64_t chunks = (photons + kChunkSize - 1) / kChunkSize;
   for (uint64_t wave_start = 0; wave_start < chunks; wave_start += kWave) {

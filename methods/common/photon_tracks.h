@@ -22,9 +22,11 @@ class PhotonTrackSums {
   // Traces photons [first_index, first_index + photons) of `tracer` (its lights and targets), calls
   // deposit(segment, sums) for each of their segments after the first specular bounce, and returns the
   // sums over all photons (double, before any normalisation); the tracer's statistics add to `stats`.
-  const std::vector<double>& accumulate(const CausticPhotonTracer& tracer, uint64_t first_index, uint64_t photons,
-                                        const std::function<void(const PathSegment&, float*)>& deposit,
-                                        PhotonStats& stats);
+  // The sums are this object's own buffer, valid until the next call: the caller normalises them in
+  // place rather than copying them (a copy is 8 bytes a value, a whole grid's worth at the build's peak).
+  std::vector<double>& accumulate(const CausticPhotonTracer& tracer, uint64_t first_index, uint64_t photons,
+                                  const std::function<void(const PathSegment&, float*)>& deposit,
+                                  PhotonStats& stats);
 
  private:
   size_t values_;

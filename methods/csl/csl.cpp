@@ -1,5 +1,6 @@
 #include "methods/csl/csl.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -171,7 +172,14 @@ void CslMethod::update_dynamic(const ObjectSets& sets, const Vec3& direction, co
   for (int c = 1; c < 3; ++c) largest = location.weights[c] > location.weights[largest] ? c : largest;
   if (location.weights[largest] == 1.0f || frame_knobs.text("interpolation") == "nearest") {
     view.set = &dynamic.sets[facet->sets[largest]];
+    view.ray_energy = view.set->ray_energy;
+    view.covered_energy = view.set->covered_energy;
     return;
+  }
+  for (int c = 0; c < 3; ++c) {
+    const SpotLightSet& corner = dynamic.sets[facet->sets[c]];
+    view.ray_energy += location.weights[c] * corner.ray_energy;
+    view.covered_energy += location.weights[c] * corner.covered_energy;
   }
   const FocusInterpolation focus =
       frame_knobs.text("focus_interpolation") == "distance" ? FocusInterpolation::distance : FocusInterpolation::curvature;
@@ -215,10 +223,33 @@ void CslMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
           throw std::logic_error(fmt::format("csl: object '{}' sees a light direction no set was made for", sets.name));
         }
         light_view.set = best;
+        light_view.ray_energy = best->ray_energy;
+        light_view.covered_energy = best->covered_energy;
       }
       view.lights.push_back(std::move(light_view));
     }
   }
+}
+
+// The energy of the object rays (the light leaving each object after its specular interactions) that
+// the frame's spot lights do not carry: what bundle extraction left once energy_coverage was reached or
+// its cells ran out, and the rays the bundles and fits dismissed (distance_threshold, fit_tolerance).
+// Weighted by each light's irradiance; known from the build, so it costs the frame nothing.
+std::optional<LostFlux> CslMethod::lost_flux(const FrameContext&, const GBuffer&, const ParamSet&) {
+  double total = 0.0, covered = 0.0;
+  for (const ObjectFrame& view : frame_) {
+    for (const LightView& light : view.lights) {
+      const double weight = luminance(light.irradiance);
+      total += weight * light.ray_energy;
+      covered += weight * light.covered_energy;
+    }
+  }
+  LostFlux lost;
+  lost.fraction = total > 0.0 ? std::clamp((total - covered) / total, 0.0, 1.0) : 0.0;
+  lost.what = "caustic ray energy no spot light carries (left past energy_coverage, or dismissed from bundles and fits)";
+  lost.knob = "energy_coverage";
+  lost.advice = "raise energy_coverage, or loosen distance_threshold and fit_tolerance, which dismiss rays";
+  return lost;
 }
 
 size_t CslMethod::memory_bytes() const {

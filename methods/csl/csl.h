@@ -32,6 +32,8 @@ class CslMethod : public CausticMethod, public BuildCache, public GpuBackend {
   size_t memory_bytes() const override;
   Counters counters() const override;
   nlohmann::json record() const override;
+  // The caustic rays' energy no spot light of the frame's sets covers (energy_coverage, dismissed rays).
+  std::optional<LostFlux> lost_flux(const FrameContext& frame, const GBuffer& gbuffer, const ParamSet& render) override;
   BuildCache* build_cache() override { return this; }
   GpuBackend* gpu() override { return this; }
   // The Vulkan backend (backend: vulkan, methods/csl/csl_gpu.cpp): the kernel time of the last render.
@@ -60,6 +62,9 @@ class CslMethod : public CausticMethod, public BuildCache, public GpuBackend {
     const csl::SpotLightSet* set = nullptr;
     std::vector<csl::InterpolatedSpotLight> interpolated;
     Color irradiance{0.0f};
+    // The caustic rays' energy of the set read (per unit light irradiance) and the part of it its spot
+    // lights cover; interpolated: the corners' blended with the interpolation's weights (lost_flux).
+    double ray_energy = 0.0, covered_energy = 0.0;
   };
   struct ObjectFrame {
     BuildSpaceMap map;

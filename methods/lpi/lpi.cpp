@@ -15,6 +15,7 @@
 #include "methods/lpi/gpu_frame.h"
 #include "methods/lpi/lookup.h"
 #include "methods/lpi/multires_layout.h"
+#include "methods/lpi/volume_radius.h"
 #include "methods/lpi/vulkan_lpi.h"
 #include "methods/common/spherical_harmonics.h"
 
@@ -178,6 +179,8 @@ nlohmann::json LpiMethod::record() const {
                             {"memory_bytes", object.values.memory_bytes() + object.layout->memory_bytes() +
                                                  object.layout->index_bytes()},
                             {"volume_radius", object.layout->radius()},
+                            {"volume_radius_bounding_radii", object.volume_radius},
+                            {"volume_radius_why", object.volume_radius_reason},
                             {"shoot_seconds", object.shoot_seconds}};
     if (const auto* tree = dynamic_cast<const MultiresLayout*>(object.layout.get())) {
       entry["tree_nodes"] = tree->nodes();
@@ -210,6 +213,34 @@ nlohmann::json LpiMethod::record() const {
   return {{"objects", objects},
           {"backend", backend_},
           {"gpu_device", gpu_context_ && vulkan_ ? gpu_context_->device_name() : ""}};
+}
+
+// Probe photons from this frame's lights at each object, through the whole scene: the flux of the
+// objects' caustics that first lands beyond the ball each was sampled in. Under `outside: clamp` or
+// `fade` it is rendered from the ball's surface value, under `zero` not at all: either way the volume
+// does not hold it.
+std::optional<LostFlux> LpiMethod::lost_flux(const FrameContext& frame, const GBuffer&, const ParamSet&) {
+  double total = 0.0, beyond = 0.0, needed = 0.0;
+  for (const ObjectVolumes& object : objects_) {
+    const CausticReach reach = frame_reach(frame.frame, frame.tracer, object.object, object.bounds);
+    total += reach.total_flux;
+    beyond += reach.fraction_beyond(object.volume_radius) * reach.total_flux;
+    needed = std::max(needed, reach.radius_holding(kHeldFraction) * kRadiusMargin);
+  }
+  LostFlux lost;
+  lost.fraction = total > 0.0 ? beyond / total : 0.0;
+  lost.what = "caustic flux whose first receiver hit lies outside the sampled ball";
+  lost.knob = "volume_radius";
+  const double cap = volume_radius_cap(settings_);
+  if (settings_.volume_radius > 0.0) {
+    lost.advice = fmt::format("set volume_radius: auto (this frame needs about {:.3g} bounding radii{})", needed,
+                              needed > cap ? fmt::format(", beyond the {:.3g} this storage resolves", cap) : "");
+  } else {
+    lost.advice = fmt::format("the receivers lie beyond {:.3g} bounding radii, the largest ball auto chooses at this "
+                              "resolution; raise the storage's resolution or set volume_radius (needs about {:.3g})",
+                              cap, needed);
+  }
+  return lost;
 }
 
 void LpiMethod::check_frame_dump(const ParamSet& knobs) const {

@@ -28,6 +28,8 @@ class LpiMethod : public CausticMethod, public BuildCache, public GpuBackend {
   size_t memory_bytes() const override;
   Counters counters() const override;
   nlohmann::json record() const override;
+  // The flux whose first receiver hit lies outside an object's sampled ball (volume_radius.h).
+  std::optional<LostFlux> lost_flux(const FrameContext& frame, const GBuffer& gbuffer, const ParamSet& render) override;
   BuildCache* build_cache() override { return this; }
   GpuBackend* gpu() override { return this; }
   // The build cache (methods/lpi/lpi_build.cpp) and the Vulkan backend (backend: vulkan).

@@ -15,6 +15,7 @@
 #include "methods/lpi/gpu_frame.h"
 #include "methods/common/spherical_harmonics.h"
 #include "methods/lpi/lpi.h"
+#include "methods/lpi/volume_radius.h"
 
 namespace causticbench {
 
@@ -223,7 +224,13 @@ void LpiMethod::plan(const PrepareContext& context, const ParamSet& build) {
                                    settings_.sh_order, coefficient_count(settings_.sh_order + 1),
                                    volumes.samples.directions.size(), build.integer("light_subdivision")));
     }
-    volumes.layout = make_layout(settings_, volumes.bounds);
+    const VolumeRadius radius = choose_volume_radius(context, object, volumes.bounds, settings_);
+    volumes.volume_radius = radius.radii;
+    volumes.volume_radius_reason = radius.reason;
+    if (radius.capped && radius.lost_at_cap > kLostFluxWarning)
+      fmt::print(stderr, "warning: lpi: object '{}': {}; raise the storage's resolution, or set volume_radius\n",
+                 volumes.name, radius.reason);
+    volumes.layout = make_layout(settings_, volumes.bounds, radius.radii);
     objects_.push_back(std::move(volumes));
   }
 }
@@ -247,10 +254,14 @@ std::optional<nlohmann::json> LpiMethod::build_dependencies(const PrepareContext
     nlohmann::json samples = {{"kind", set.kind}};
     if (set.kind == "static" || set.kind == "spherical") samples["directions"] = directions_json(set.directions);
     if (set.kind == "environment") samples["points"] = set.mesh_points;
-    objects.push_back({{"shape", shape_json(source.shape)},
-                       {"material", material_json(source.material)},
-                       {"scale", {scale.x, scale.y, scale.z}},
-                       {"light_samples", samples}});
+    nlohmann::json entry = {{"shape", shape_json(source.shape)},
+                            {"material", material_json(source.material)},
+                            {"scale", {scale.x, scale.y, scale.z}},
+                            {"light_samples", samples}};
+    // auto: the ball the probes chose (it depends on the receivers, which the build otherwise does not).
+    if (build.is_auto("volume_radius"))
+      entry["volume_radius"] = choose_volume_radius(context, object, frame.bounds[0], volume_settings(build)).radii;
+    objects.push_back(std::move(entry));
   }
   // backend: cpu leaves the keys of builds stored before the knob as they were; every other build knob,
   // vulkan included, names a build of its own (the suite's rule: tests/test_conformance.cpp).

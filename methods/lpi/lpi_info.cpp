@@ -121,8 +121,12 @@ const MethodInfo& LpiMethod::static_info() {
                           "paper: irradiance on the surface facing the object's centre, corrected by the cosine to the "
                           "receiver's normal (Section 3.2); vector: the vector irradiance, shaded max(0, n . E)",
                           ParamPhase::build),
-        ParamSpec::real("volume_radius", 3.0, 0.01, 1000.0, "radius of the sampled ball, in bounding radii of the object",
-                        ParamPhase::build),
+        ParamSpec::real("volume_radius", 3.0, 0.01, 1000.0,
+                        "radius of the sampled ball, in bounding radii of the object; auto: the smallest ball holding "
+                        "98 % of where the object's light first meets a receiver in the rendered frames (probe "
+                        "photons at prepare), times 1.1, capped where the storage stops resolving the object",
+                        ParamPhase::build)
+            .auto_by_default(),
         ParamSpec::integer("photons_per_sample", 1000000, 1, 4e9, "photons shot at the object per light sample",
                            ParamPhase::build),
         ParamSpec::integer("seed", 1, 0, 4e9, "seed of the photon paths", ParamPhase::build),
@@ -227,7 +231,7 @@ VolumeSettings lpi::volume_settings(const ParamSet& build) {
                                : build.has("multires_depth") ? multires_one_cell_problem(build)
                                                              : "";
   if (!one_cell.empty()) throw InputError("lpi: " + one_cell);
-  settings.volume_radius = build.real("volume_radius");
+  settings.volume_radius = build.is_auto("volume_radius") ? 0.0 : build.real("volume_radius");
   settings.photons_per_sample = static_cast<uint64_t>(build.integer("photons_per_sample"));
   settings.seed = static_cast<uint64_t>(build.integer("seed"));
   return settings;

@@ -14,8 +14,9 @@
 
 namespace causticbench::lpi {
 
-std::unique_ptr<VolumeLayout> make_layout(const VolumeSettings& settings, const BoundingSphere& bounds) {
-  const float radius = static_cast<float>(settings.volume_radius) * bounds.radius;
+std::unique_ptr<VolumeLayout> make_layout(const VolumeSettings& settings, const BoundingSphere& bounds,
+                                          double radius_in_bounding_radii) {
+  const float radius = static_cast<float>(radius_in_bounding_radii) * bounds.radius;
   if (settings.storage == StorageKind::grid || settings.storage == StorageKind::sh) {
     return std::make_unique<GridLayout>(bounds.center, radius, settings.grid_resolution);
   }
@@ -60,7 +61,6 @@ void shoot_light_samples(const Scene& build_scene, const VolumeSettings& setting
   const size_t sample_count = volumes.samples.directions.size();
   std::vector<float> all_values(values_per_sample * sample_count, 0.0f);
   PhotonTrackSums sums(values_per_sample);
-  std::vector<double> total;
   auto deposit = [&](const PathSegment& segment, float* values) { layout.deposit(segment, settings.orientation, values); };
   for (size_t sample = 0; sample < sample_count; ++sample) {
     PhotonLights lights;
@@ -68,7 +68,7 @@ void shoot_light_samples(const Scene& build_scene, const VolumeSettings& setting
     CausticPhotonTracer photon_tracer(tracer, PhotonTracerSettings{settings.seed}, lights.frames(), {0});
     const uint64_t photons = settings.photons_per_sample;
     const uint64_t first_index = volumes.samples.seed_index(sample) << 32;
-    total = sums.accumulate(photon_tracer, first_index, photons, deposit, volumes.stats);
+    std::vector<double>& total = sums.accumulate(photon_tracer, first_index, photons, deposit, volumes.stats);
     layout.normalise(static_cast<double>(photons), settings.orientation, total.data());
     float* output = all_values.data() + sample * values_per_sample;
     for (size_t i = 0; i < values_per_sample; ++i) output[i] = static_cast<float>(total[i]);

@@ -35,7 +35,7 @@ struct VolumeSettings {
   double error_threshold = 0.01;    // relative to each light sample's largest value
   MultiresTree multires_tree = MultiresTree::shared;  // one tree for all light samples, or one each
   int sh_order = 4;                 // highest degree of the spherical harmonics
-  double volume_radius = 3.0;       // in bounding radii
+  double volume_radius = 0.0;       // in bounding radii; 0: auto (volume_radius.h chooses it per object)
   Orientation orientation = Orientation::paper;
   Precision precision = Precision::float32;
   uint64_t photons_per_sample = 1000000;
@@ -47,6 +47,8 @@ struct ObjectVolumes {
   int object = -1;
   std::string name;
   BoundingSphere bounds;  // of the object, build space
+  double volume_radius = 3.0;        // the sampled ball's radius in bounding radii (volume_radius.h)
+  std::string volume_radius_reason;  // why: the number set, or what auto measured
   LightSampleSet samples;
   std::unique_ptr<VolumeLayout> layout;
   // Light-sample blocks, or for storage: sh one block per spherical-harmonic coefficient.
@@ -60,7 +62,8 @@ inline bool per_sample_trees(const VolumeSettings& settings) {
   return settings.storage == StorageKind::multires && settings.multires_tree == MultiresTree::per_sample;
 }
 
-std::unique_ptr<VolumeLayout> make_layout(const VolumeSettings& settings, const BoundingSphere& bounds);
+// The layout of a ball of `radius` bounding radii around `bounds`' centre.
+std::unique_ptr<VolumeLayout> make_layout(const VolumeSettings& settings, const BoundingSphere& bounds, double radius);
 
 // Blocks of stored values: one per light sample, or per coefficient for storage: sh.
 size_t stored_blocks(const VolumeSettings& settings, const ObjectVolumes& volumes);

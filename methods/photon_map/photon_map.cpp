@@ -12,6 +12,7 @@
 #include "core/parallel.h"
 #include "core/scene_description.h"
 #include "methods/common/photon_memory.h"
+#include "methods/common/photon_view.h"
 
 namespace causticbench {
 
@@ -161,6 +162,64 @@ Image PhotonMapMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
     }
   });
   return result;
+}
+
+namespace {
+
+// The receiver pixels' points, for a nearest-point search.
+struct PixelCloud {
+  std::vector<Vec3> points;
+  size_t kdtree_get_point_count() const { return points.size(); }
+  float kdtree_get_pt(size_t i, size_t axis) const { return points[i][static_cast<int>(axis)]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const { return false; }
+};
+using PixelTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PixelCloud>, PixelCloud, 3>;
+
+}  // namespace
+
+// The flux of the photons the camera sees on receiver pixels (methods/common/photon_view.h) that lie
+// farther than max_radius from every receiver pixel's point: light no gather can count, whatever k. (A
+// photon between pixel points that a small k leaves out is not lost: each pixel's estimate stays a
+// consistent density estimate, the photon is only work that did not help. The cap is what can hide
+// light: max_radius below the pixel spacing, as in a scene measured in other units than the default
+// assumes, leaves the image a speckle of discs around the pixel points.)
+std::optional<LostFlux> PhotonMapMethod::lost_flux(const FrameContext& frame, const GBuffer& gbuffer,
+                                                   const ParamSet& params) {
+  const double max_radius = params.real("max_radius");
+  LostFlux lost;
+  lost.what = "flux of the photons in view farther than max_radius from every receiver pixel's point";
+  lost.knob = "max_radius";
+  lost.advice = fmt::format("raise max_radius (now {:g}) to at least the receivers' pixel spacing", max_radius);
+  PixelCloud cloud;
+  for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel)
+    if (gbuffer.receiver[pixel]) cloud.points.push_back(gbuffer.position[pixel]);
+  if (photons_.empty() || cloud.points.empty()) return lost;
+  PixelTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  tree.buildIndex();
+  // Per photon, its flux when in view, and whether it lies beyond the cap: summed in photon order after,
+  // so the same for any thread count.
+  std::vector<double> seen(photons_.size(), 0.0);
+  std::vector<uint8_t> beyond(photons_.size(), 0);
+  parallel_blocks(photons_.size(), 2048, [&](size_t begin, size_t end, size_t) {
+    for (size_t i = begin; i < end; ++i) {
+      const Photon& photon = photons_[i];
+      std::optional<CameraFrame::ImagePoint> image = photon_seen_by_camera(frame.frame.camera, frame.tracer, photon);
+      if (!image || !gbuffer.receiver[static_cast<size_t>(image->y) * gbuffer.width + image->x]) continue;
+      seen[i] = luminance(photon.power);
+      uint32_t nearest = 0;
+      float distance2 = 0.0f;
+      tree.knnSearch(&photon.position.x, 1, &nearest, &distance2);
+      beyond[i] = std::sqrt(static_cast<double>(distance2)) > max_radius;
+    }
+  });
+  double total = 0.0, missed = 0.0;
+  for (size_t i = 0; i < photons_.size(); ++i) {
+    total += seen[i];
+    if (beyond[i]) missed += seen[i];
+  }
+  lost.fraction = total > 0.0 ? missed / total : 0.0;
+  return lost;
 }
 
 size_t PhotonMapMethod::memory_bytes() const {

@@ -23,6 +23,8 @@ class PhotonMapMethod : public CausticMethod, public BuildCache {
   size_t memory_bytes() const override;
   Counters counters() const override;
   nlohmann::json record() const override;
+  // The flux of the photons in view farther than max_radius from every receiver pixel's point.
+  std::optional<LostFlux> lost_flux(const FrameContext& frame, const GBuffer& gbuffer, const ParamSet& render) override;
   // The build cache: a static scene's photons.
   BuildCache* build_cache() override { return this; }
   std::optional<nlohmann::json> build_dependencies(const PrepareContext& context, const ParamSet& build) const override;

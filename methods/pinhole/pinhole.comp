@@ -20,7 +20,7 @@ layout(push_constant) uniform Parameters {
   float area;
   uint attenuation;
   uint fresnel;
-  uint refraction;
+  uint refraction;  // 0 reflect, 1 refract, 2 auto: glass refracts (material kind 2), the others reflect
   float footprint_radius;
   uint filtering;  // 1 isotropic, 2 anisotropic (the own filter; the hardware sampler is made for one)
 } p;
@@ -181,15 +181,16 @@ bool refract_direction(vec3 d, vec3 n, float eta, out vec3 transmitted) {
 
 // Direction towards the light seen through a sample from a receiver in `direction`, and the cosine at
 // the sample (methods/pinhole/pinhole.cpp, light_direction).
-bool light_direction(vec3 direction, vec3 n, bool two_sided, float ior, out vec3 to_light, out float cos_sample) {
-  cos_sample = p.refraction != 0u ? dot(n, direction) : -dot(n, direction);
+bool light_direction(vec3 direction, vec3 n, bool two_sided, float ior, bool refracts, out vec3 to_light,
+                     out float cos_sample) {
+  cos_sample = refracts ? dot(n, direction) : -dot(n, direction);
   to_light = vec3(0.0);
   if (cos_sample <= 0.0) {
     if (!two_sided) return false;
     n = -n;
     cos_sample = -cos_sample;
   }
-  if (p.refraction == 0u) {
+  if (!refracts) {
     to_light = direction - 2.0 * dot(direction, n) * n;
     return true;
   }
@@ -219,9 +220,11 @@ void main() {
     float cos_receiver = dot(receiver_n, direction);
     int m = int(normal_and_material.w) * 3;
     vec4 m0 = material[m], m1 = material[m + 1], m2 = material[m + 2];
+    const bool refracts = p.refraction == 1u || (p.refraction == 2u && m0.w == 2.0);
     vec3 to_light;
     float cos_sample;
-    if (!light_direction(direction, normal_and_material.xyz, position.w >= 0.5, m1.w, to_light, cos_sample)) continue;
+    if (!light_direction(direction, normal_and_material.xyz, position.w >= 0.5, m1.w, refracts, to_light, cos_sample))
+      continue;
 #if defined(FILTERED) || defined(OWN_FILTER)
     // The footprint's gradients: light directions at p + r u and p + r v with normals n + r dn/du, n + r dn/dv.
     vec3 gradient[2];
@@ -230,7 +233,7 @@ void main() {
       vec3 moved_normal = normalize(normal_and_material.xyz + p.footprint_radius * differential[4u * i + 2u + uint(k)].xyz);
       vec3 moved_light;
       float unused;
-      gradient[k] = light_direction(normalize(moved), moved_normal, position.w >= 0.5, m1.w, moved_light, unused)
+      gradient[k] = light_direction(normalize(moved), moved_normal, position.w >= 0.5, m1.w, refracts, moved_light, unused)
                         ? moved_light - to_light : vec3(0.0);
     }
 #ifdef OWN_FILTER
@@ -244,7 +247,7 @@ void main() {
     if (radiance.r + radiance.g + radiance.b <= 0.0) continue;
     float cosine = p.fresnel != 0u ? cos_sample : 1.0;
     vec3 throughput;
-    if (p.refraction != 0u) {
+    if (refracts) {
       throughput = vec3((1.0 - fresnel_dielectric(cosine, 1.0 / m1.w)) * m1.w * m1.w);
     } else if (m0.w == 2.0) {
       throughput = vec3(fresnel_dielectric(cosine, m1.w));

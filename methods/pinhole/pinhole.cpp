@@ -8,6 +8,7 @@
 #include "core/optics.h"
 #include "core/parallel.h"
 #include "gpu/cube_filter_check.h"
+#include "methods/common/caustic_reach.h"
 #include "methods/common/gpu_arrays.h"
 #include "methods/pinhole/cube_filter.h"
 #include "methods/pinhole/reflection_lanes.h"
@@ -53,6 +54,9 @@ void PinholeMethod::prepare(const PrepareContext& context, const ParamSet& build
   }
   build_ = build;
   scene_ = &scene;
+  interaction_ = build.text("interaction");
+  any_refracts_ = false;
+  for (int object : reflectors_) any_refracts_ = any_refracts_ || pinhole_refracts(interaction_, scene.objects[object].material);
   filter_implementation_ = build.text("filtering") == "none" ? "" : build.text("filter_implementation");
   if (filter_implementation_ == (build.text("backend") == "vulkan" ? "oiio" : "hardware")) {
     throw InputError(fmt::format("pinhole: filter_implementation '{}' is not available on the {} backend (own, or {})",
@@ -103,7 +107,7 @@ void PinholeMethod::update(const FrameContext& context, const ParamSet& knobs) {
     cube_map_lights_ = std::make_unique<DistantLights>(lights);
     const std::vector<uint8_t>& occupied = cube_map_.occupancy();
     const bool lit_everywhere = std::find(occupied.begin(), occupied.end(), 0) == occupied.end();
-    packed_map_ = lit_everywhere && build_.text("filtering") == "none" && build_.text("interaction") == "reflect"
+    packed_map_ = lit_everywhere && build_.text("filtering") == "none" && !any_refracts_
                       ? PackedTexels(cube_map_.texels())
                       : PackedTexels();
   }
@@ -187,11 +191,67 @@ void PinholeMethod::dump_frame(const GBuffer& gbuffer, const ParamSet& params, c
   write_dump_irradiance(folder, build_.text("backend"), output);
 }
 
+namespace {
+
+// Whether the interaction models a specular object's material: glass by refraction, a mirror (or the
+// mirror part of a diffuse+mirror surface) by reflection. Under reflect, glass is sampled but only its
+// Fresnel reflection is rendered; under refract, mirrors are not sampled at all.
+bool models(const std::string& interaction, const Material& material) {
+  return pinhole_refracts(interaction, material) == (material.kind == MaterialKind::glass);
+}
+
+}  // namespace
+
+// Per specular object: what the run does there and why (interaction: auto decides by material).
+nlohmann::json PinholeMethod::interaction_record() const {
+  nlohmann::json objects = nlohmann::json::object();
+  if (!scene_) return objects;
+  for (size_t i = 0; i < scene_->objects.size(); ++i) {
+    const Material& material = scene_->objects[i].material;
+    if (!material.is_specular()) continue;
+    const bool sampled = std::find(reflectors_.begin(), reflectors_.end(), static_cast<int>(i)) != reflectors_.end();
+    const std::string done = !sampled ? "not sampled" : pinhole_refracts(interaction_, material) ? "refracts" : "reflects";
+    objects[scene_->objects[i].name] =
+        fmt::format("{} (interaction: {}, {} material{})", done, interaction_,
+                    material.kind == MaterialKind::glass ? "glass" : "mirror",
+                    models(interaction_, material) ? "" : "; not what the material does: lost_flux counts it");
+  }
+  return objects;
+}
+
+// Probe photons from this frame's lights at each specular object, through the whole scene: the flux
+// that first lands on a receiver from an object whose material the interaction does not model is what
+// the run cannot represent. (Paths of more than one specular interaction, such as the two refractions
+// of a closed glass object, are the method's declared limit, `multiple_bounces`, not counted here.)
+std::optional<LostFlux> PinholeMethod::lost_flux(const FrameContext& frame, const GBuffer&, const ParamSet&) {
+  constexpr uint64_t kProbePhotons = 20000, kProbeSeed = 0x5eedba11;
+  double total = 0.0, lost = 0.0;
+  std::vector<std::string> names;
+  for (int object : frame.frame.specular_objects()) {
+    const CausticReach reach = probe_caustic_reach(frame.frame, frame.tracer, object, BuildSpaceMap{},
+                                                   BoundingSphere{Vec3(0.0f), 1.0f}, kProbePhotons, kProbeSeed);
+    total += reach.total_flux;
+    const Material& material = scene_->objects[object].material;
+    if (models(interaction_, material)) continue;
+    lost += reach.total_flux;
+    names.push_back("'" + scene_->objects[object].name + "'");
+  }
+  LostFlux result;
+  result.fraction = total > 0.0 ? std::min(1.0, lost / total) : 0.0;
+  result.what = names.empty() ? "caustic flux of specular objects whose material the interaction does not model"
+                              : fmt::format("caustic flux of {}, whose material interaction: {} does not model",
+                                            fmt::join(names, ", "), interaction_);
+  result.knob = "interaction";
+  result.advice = "set interaction: auto (glass refracts, mirrors reflect)";
+  return result;
+}
+
 nlohmann::json PinholeMethod::record() const {
   return {{"backend", build_.text("backend")},
           {"gpu_device", gpu_context_ ? gpu_context_->device_name() : ""},
           {"gpu_sampler_warning", sampler_note_},
           {"filter_implementation", filter_implementation_},
+          {"interaction", interaction_record()},
           {"samples", samples_.samples.size()},
           {"reflector_area", samples_.total_area},
           {"sample_spacing", samples_.spacing},

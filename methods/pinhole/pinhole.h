@@ -27,6 +27,8 @@ class PinholeMethod : public CausticMethod, public GpuBackend {
   Counters counters() const override;
   nlohmann::json record() const override;
   std::vector<MemoryTerm> knob_memory(const PrepareContext& context, const ParamSet& knobs) const override;
+  // The caustic flux of the specular objects whose material this run's interaction does not model.
+  std::optional<LostFlux> lost_flux(const FrameContext& frame, const GBuffer& gbuffer, const ParamSet& render) override;
   // The Vulkan backend (backend: vulkan).
   GpuBackend* gpu() override { return this; }
   std::optional<double> gpu_render_milliseconds() const override {
@@ -39,6 +41,8 @@ class PinholeMethod : public CausticMethod, public GpuBackend {
   ParamSet build_;
   const Scene* scene_ = nullptr;
   std::vector<int> reflectors_;  // the objects sampled, from prepare()
+  std::string interaction_;      // the build knob: reflect, refract or auto (each object by its material)
+  bool any_refracts_ = false;    // some sampled object refracts (the reflection-only fast paths do not apply)
   SampleSet samples_;
   std::vector<const Material*> sample_materials_;
   // The largest deviation of the last unfiltered render's throughput tables from the exact Fresnel
@@ -61,13 +65,20 @@ class PinholeMethod : public CausticMethod, public GpuBackend {
   double gpu_render_ms_ = 0.0;
 
   void fill_receivers(const GBuffer& gbuffer, const ParamSet& render, PinholeFrameData& frame) const;
+  nlohmann::json interaction_record() const;
   float epsilon_of(const ParamSet& render) const;
   // Half the sample spacing: where the differential point samples' footprint gradients are taken.
   float footprint_radius() const { return static_cast<float>(0.5 * samples_.spacing); }
 };
 
-// The specular objects the method samples for an interaction ("reflect": mirrors, diffuse+mirror and
-// glass; "refract": glass).
+// The specular objects the method samples for an interaction ("reflect" and "auto": mirrors,
+// diffuse+mirror and glass; "refract": glass).
 std::vector<int> pinhole_reflectors(const Scene& scene, const std::string& interaction);
+// Whether a sample of this material refracts under the interaction: always under "refract", never under
+// "reflect", and under "auto" when the material is glass (a mirror, or a diffuse+mirror surface's mirror
+// part, reflects).
+inline bool pinhole_refracts(const std::string& interaction, const Material& material) {
+  return interaction == "refract" || (interaction == "auto" && material.kind == MaterialKind::glass);
+}
 
 }  // namespace causticbench

@@ -28,15 +28,20 @@ const MethodInfo& PinholeMethod::static_info() {
         ParamSpec::integer("samples", 1000, 1, 1e7, "target number of reflector samples (pinhole cameras) per frame", frame),
         ParamSpec::choice("sampling", "neighborhood", {"random", "grid", "quantized_grid", "neighborhood"},
                           "stratification of the samples (Section 3.2)", frame),
-        ParamSpec::choice("filtering", "none", {"none", "isotropic", "anisotropic"},
-                          "resampling filter of the light lookups from differential point samples (Section 3.3)", build),
+        ParamSpec::choice("filtering", "anisotropic", {"none", "isotropic", "anisotropic"},
+                          "resampling filter of the light lookups from differential point samples (Section 3.3); the "
+                          "paper's method is the anisotropic one, none its unfiltered Figs. 4 and 5",
+                          build),
         ParamSpec::choice("filter_implementation", "own", {"own", "oiio", "hardware"},
                           "own: the method's footprint filter on a mip-mapped cube map, the same on both backends; "
                           "oiio: OpenImageIO's on a lat-long texture (cpu only); hardware: the device's textureGrad "
                           "(vulkan only)", build)
             .only_when("filtering", {"isotropic", "anisotropic"}),
-        ParamSpec::choice("interaction", "reflect", {"reflect", "refract"},
-                          "one mirror reflection, or one refraction (the variant Section 5 names)", build),
+        ParamSpec::choice("interaction", "auto", {"auto", "reflect", "refract"},
+                          "auto: each object by its material (glass refracts, a mirror or a diffuse+mirror surface "
+                          "reflects); reflect: one mirror reflection at every specular object, glass included (its "
+                          "Fresnel reflection); refract: one refraction at glass (the variant Section 5 names)",
+                          build),
         ParamSpec::integer("environment_resolution", 256, 4, 4096, "cube map face size of the light map (paper: 256)", frame),
         ParamSpec::integer("seed", 1, 0, 4e9, "seed of the reflector sampling", frame),
         ParamSpec::choice("backend", "cpu", {"cpu", "vulkan"},

@@ -29,7 +29,10 @@ std::vector<MemoryTerm> PinholeMethod::knob_memory(const PrepareContext& context
   bool environment = false;
   for (const Light& light : context.scene.lights) environment = environment || light.kind == LightKind::environment_image || light.kind == LightKind::gaussian_spot;
   const double face = std::pow(static_cast<double>(knobs.integer("environment_resolution")), 2.0);
-  const double per_texel = !filtered ? (environment && knobs.text("interaction") == "reflect" ? 168.0 : 144.0)
+  bool refracts = false;  // some sampled object refracts: no packed copy of the map
+  for (int object : pinhole_reflectors(context.scene, knobs.text("interaction")))
+    refracts = refracts || pinhole_refracts(knobs.text("interaction"), context.scene.objects[object].material);
+  const double per_texel = !filtered ? (environment && !refracts ? 168.0 : 144.0)
                            : knobs.text("filter_implementation") == "oiio" ? 336.0
                                                                            : (environment ? 348.0 : 306.0);
   return {MemoryTerm{{"samples"}, sample_bytes,

@@ -52,7 +52,10 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   }
   const float epsilon = epsilon_of(params);
   const bool attenuation = params.boolean("attenuation");
-  Interaction interaction{build_.text("interaction") == "refract", params.boolean("fresnel")};
+  const bool fresnel = params.boolean("fresnel");
+  // Per sample: interaction auto refracts at glass and reflects elsewhere (pinhole_refracts).
+  std::vector<uint8_t> refracts(samples.size());
+  for (size_t i = 0; i < samples.size(); ++i) refracts[i] = pinhole_refracts(interaction_, *sample_materials_[i]);
   const std::string& filtering = build_.text("filtering");
   const bool filtered = filtering != "none" && (filtered_map_ || cube_filter_);
   // The skip of footprints that reach no light changes nothing (methods/pinhole/tests/test_pinhole.cpp); the variable
@@ -77,7 +80,7 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   std::vector<float> two_sided(padded, 0.0f);
   for (size_t i = 0; i < count; ++i) two_sided[i] = samples[i].two_sided ? 1.0f : 0.0f;
   const float sample_area = samples.front().area;
-  if (!filtered && !interaction.refract) {
+  if (!filtered && !any_refracts_) {
     // The common case (Fig. 4 to 7): geometry in vectorised blocks, then a lookup per facing sample,
     // with the throughput from a table per material (methods/pinhole/throughput.h).
     std::vector<ThroughputTable> tables;
@@ -85,7 +88,7 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
     for (size_t i = 0; i < count; ++i) {
       auto found = std::find_if(tables.begin(), tables.end(),
                                 [&](const ThroughputTable& t) { return t.material() == sample_materials_[i]; });
-      if (found == tables.end()) found = tables.insert(tables.end(), ThroughputTable(*sample_materials_[i], interaction.fresnel));
+      if (found == tables.end()) found = tables.insert(tables.end(), ThroughputTable(*sample_materials_[i], fresnel));
       table_of[i] = static_cast<uint16_t>(found - tables.begin());
     }
     table_error_ = 0.0f;
@@ -172,7 +175,7 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
     }
   }
   // The vector pre-skip (filtered_skip_lanes) where the own filter looks up a compact light.
-  const bool prefilter = cube_filter_ && skip && !interaction.refract && !cube_filter_->lit_everywhere();
+  const bool prefilter = cube_filter_ && skip && !any_refracts_ && !cube_filter_->lit_everywhere();
   std::vector<std::vector<float>> moved_arrays(12, std::vector<float>(padded, 0.0f));
   if (prefilter) {
     for (int k = 0; k < 2; ++k) std::fill(moved_arrays[3 * k + 2].begin(), moved_arrays[3 * k + 2].end(), 1e6f);
@@ -202,6 +205,7 @@ Image PinholeMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
         Vec3 direction = offset * (1.0f / std::sqrt(distance2));
         float cos_receiver = glm::dot(receiver_normal, direction);
         const Material& material = *sample_materials_[i];
+        const Interaction interaction{refracts[i] != 0, fresnel};
         Vec3 to_light;
         float cos_sample;
         if (!light_direction(direction, Vec3(nx[i], ny[i], nz[i]), sample.two_sided, material.ior, interaction.refract,
@@ -267,7 +271,8 @@ void PinholeMethod::fill_receivers(const GBuffer& gbuffer, const ParamSet& param
   frame.area = samples_.samples.empty() ? 0.0f : samples_.samples.front().area;
   frame.attenuation = params.boolean("attenuation") ? 1 : 0;
   frame.fresnel = params.boolean("fresnel") ? 1 : 0;
-  frame.refraction = build_.text("interaction") == "refract" ? 1 : 0;
+  // 0 reflect, 1 refract, 2 auto: the shader refracts at glass materials (pinhole_refracts).
+  frame.refraction = interaction_ == "refract" ? 1 : interaction_ == "auto" ? 2 : 0;
 }
 
 }  // namespace causticbench

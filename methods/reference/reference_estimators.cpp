@@ -6,6 +6,7 @@
 #include "core/image_statistics.h"
 #include "core/parallel.h"
 #include "methods/common/photon_grid.h"
+#include "methods/common/photon_view.h"
 
 namespace causticbench {
 
@@ -24,19 +25,16 @@ uint64_t FootprintTally::credit(const MeasurementPoints& points, const CameraFra
                                 const std::vector<Photon>& photons) {
   std::vector<int32_t> target(photons.size(), -1);
   std::vector<double> weight(photons.size(), 0.0);
-  const float epsilon = tracer.epsilon();
   parallel_blocks(photons.size(), 2048, [&](size_t begin, size_t end, size_t) {
     for (size_t i = begin; i < end; ++i) {
       const Photon& photon = photons[i];
+      // The pixel test first: it is cheap, and most photons of a caustic land outside the receivers' pixels.
       std::optional<CameraFrame::ImagePoint> image = camera.project(photon.position, photon.normal);
       if (!image) continue;
       int32_t point = points.point_of_pixel[static_cast<size_t>(image->y) * points.width + image->x];
       if (point < 0) continue;
-      // E_c is the irradiance on the side of the surface the camera sees, and only where it sees it.
-      if (glm::dot(photon.normal, image->to_camera) <= 0.0f) continue;
-      const Vec3 origin = photon.position + photon.normal * epsilon;
-      if (image->distance > 2.0f * epsilon && tracer.occluded(origin, image->to_camera, image->distance - 2.0f * epsilon))
-        continue;
+      image = photon_seen_by_camera(camera, tracer, photon);
+      if (!image) continue;
       target[i] = point;
       weight[i] = image->pixels_per_area;
     }

@@ -361,8 +361,10 @@ objects:
   const Scene below_only = scene_from_yaml(replace_once(scene_text, "LIGHTS", below));
   const Scene both = scene_from_yaml(replace_once(scene_text, "LIGHTS", below + ", " + above));
   auto render = [&](const Scene& scene, const std::string& clamp) {
+    // One ball for both scenes (auto would fit each scene's own, and the comparison is of the clamp alone).
     return causticbench::testing::render(scene, "lpi", {"light_subdivision=2", "photons_per_sample=5000", "grid_resolution=24",
-                                                        "orientation=vector", "environment_clamp=" + clamp});
+                                                        "orientation=vector", "environment_clamp=" + clamp,
+                                                        "volume_radius=3"});
   };
   const FrameResult per_sample_below = render(below_only, "per_sample");
   const FrameResult per_sample_both = render(both, "per_sample");

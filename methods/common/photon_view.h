@@ -1,0 +1,20 @@
+// Whether the camera sees where a photon landed: the one definition of "in view" for the estimators
+// that credit photons to pixels (the reference's footprint tally) and for the photon map's count of the
+// flux its gathers miss (its lost flux).
+#pragma once
+
+#include <optional>
+
+#include "core/camera.h"
+#include "core/photon_tracer.h"
+#include "core/tracer.h"
+
+namespace causticbench {
+
+// The pixel whose footprint holds the photon, when the photon arrived on the side of its surface that
+// faces the camera and a shadow ray from there to the camera is free; nothing otherwise (behind the
+// camera, outside the image, the far side of the surface, hidden). Does not check the pixel's mask.
+std::optional<CameraFrame::ImagePoint> photon_seen_by_camera(const CameraFrame& camera, const Tracer& tracer,
+                                                             const Photon& photon);
+
+}  // namespace causticbench
