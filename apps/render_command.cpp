@@ -153,11 +153,7 @@ static void render_and_write(const RenderOptions& options, const Scene& scene, c
       {"memory_bytes", result.memory_bytes},
       {"counters", counters},
       {"method_record", result.method_record},
-      {"lost_flux", result.lost_flux ? nlohmann::json{{"fraction", result.lost_flux->fraction},
-                                                      {"what", result.lost_flux->what},
-                                                      {"knob", result.lost_flux->knob},
-                                                      {"advice", result.lost_flux->advice}}
-                                     : nlohmann::json(nullptr)},
+      {"lost_flux", result.lost_flux ? lost_flux_json(*result.lost_flux) : nlohmann::json(nullptr)},
       {"caustic_flux_on_receivers", masked_sum(result.caustic, result.gbuffer.receiver)},
       {"environment", environment_json(options.threads)},
       {"files", {"caustic.exr", "direct.exr", "gbuffer.exr", "composite.png", "caustic.png"}}};

@@ -227,9 +227,8 @@ class RunExecutor {
         if (outcome.record.ok()) {
           ++summary_.completed;
           const std::optional<LostFluxRecord>& lost = outcome.record.lost_flux;
-          if (lost && lost->fraction > kLostFluxWarning)
-            fmt::print(stderr, "warning: run {} {}\n", run.label,
-                       describe_lost_flux(LostFlux{lost->fraction, lost->what, lost->knob, lost->advice}));
+          if (lost && lost->worst.fraction > kLostFluxWarning)
+            fmt::print(stderr, "warning: run {} {}\n", run.label, describe_lost_flux(lost->worst));
         } else {
           ++summary_.failed;
           fmt::print(stderr, "run {} failed: {}\n", run.label, outcome.record.error);

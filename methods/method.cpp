@@ -37,6 +37,10 @@ std::optional<BrokenKnobRule> broken_knob_rule(const MethodInfo& info, const Par
   return std::nullopt;
 }
 
+nlohmann::json lost_flux_json(const LostFlux& lost) {
+  return {{"fraction", lost.fraction}, {"what", lost.what}, {"knob", lost.knob}, {"advice", lost.advice}};
+}
+
 std::string describe_lost_flux(const LostFlux& lost) {
   return fmt::format("loses {:.1f} % of the caustic flux ({}){}", 100.0 * lost.fraction, lost.what,
                      lost.advice.empty() ? "" : "; " + lost.advice);

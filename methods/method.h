@@ -109,6 +109,8 @@ struct LostFlux {
 inline constexpr double kLostFluxWarning = 0.05;
 // "loses 12.3 % of the caustic flux (<what>); <advice>" for warnings and reports.
 std::string describe_lost_flux(const LostFlux& lost);
+// {"fraction", "what", "knob", "advice"}: how `render` and the run record write it.
+nlohmann::json lost_flux_json(const LostFlux& lost);
 
 // What prepare() works from: the scene, its rest pose (frame 0) with a ray tracer over it (to trace
 // photons or rays for any light direction, with CausticPhotonTracer's explicit lights), and the frame

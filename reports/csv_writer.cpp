@@ -108,7 +108,7 @@ std::string results_csv(const Report& report) {
     cells.push_back(measured ? number_cell(record.prepare.prepare_seconds) : "");
     cells.push_back(measured ? std::to_string(record.memory_bytes) : "");
     cells.push_back(measured ? std::to_string(record.peak_rss_bytes) : "");
-    cells.push_back(measured && record.lost_flux ? csv_value(json(record.lost_flux->fraction)) : "");
+    cells.push_back(measured && record.lost_flux ? csv_value(json(record.lost_flux->worst.fraction)) : "");
     for (const auto& name : counters) {
       auto found = record.counters.find(name);
       cells.push_back(found == record.counters.end() ? "" : number_cell(found->second));

@@ -1,6 +1,7 @@
 // The trivial baselines of each variant (metrics/baselines.h), scored when the report is written from
 // the reference images the runs were measured against: nothing is stored, and a report of an older
 // store gets them too.
+#include <map>
 #include <regex>
 
 #include <fmt/format.h>
@@ -46,20 +47,29 @@ bool read_reference_frames(const fs::path& folder, std::vector<Image>& images, s
 }  // namespace
 
 void score_variant_baselines(Report& report) {
+  // Variants that share a reference share its baselines: each reference is read and scored once.
+  std::map<std::string, std::vector<BaselineScores>> scored;
   for (Variant& variant : report.variants) {
     if (variant.reference_key.empty()) continue;
-    std::vector<Image> images;
-    std::vector<std::vector<uint8_t>> masks;
-    if (!read_reference_frames(report.reference_folder(variant.reference_key), images, masks)) {
-      report.notes.push_back(fmt::format("The reference images of {} cannot be read: no baselines{}.",
-                                         variant.reference_key, report.multi() ? " for variant " + variant.name : ""));
-      continue;
+    auto found = scored.find(variant.reference_key);
+    if (found == scored.end()) {
+      std::vector<BaselineScores> scores;
+      std::vector<Image> images;
+      std::vector<std::vector<uint8_t>> masks;
+      if (!read_reference_frames(report.reference_folder(variant.reference_key), images, masks)) {
+        report.notes.push_back(fmt::format("The reference images of {} cannot be read: no baselines against it.",
+                                           variant.reference_key));
+      } else {
+        try {
+          scores = score_baselines(images, masks, report.metrics);
+        } catch (const std::exception& problem) {
+          report.notes.push_back(
+              fmt::format("The baselines of {} could not be scored: {}", variant.reference_key, problem.what()));
+        }
+      }
+      found = scored.emplace(variant.reference_key, std::move(scores)).first;
     }
-    try {
-      variant.baselines = score_baselines(images, masks, report.metrics);
-    } catch (const std::exception& problem) {
-      report.notes.push_back(fmt::format("The baselines of {} could not be scored: {}", variant.reference_key, problem.what()));
-    }
+    variant.baselines = found->second;
   }
 }
 

@@ -114,7 +114,7 @@ Table results_table(const Report& report) {
     std::string label = run.label;
     if (report.on_overall_front(i)) label += " \u25c6";
     if (run.empty_reference) label += " (empty reference)";
-    const std::optional<LostFluxRecord>& lost = run.record.lost_flux;
+    const LostFlux* lost = run.record.lost_flux ? &run.record.lost_flux->worst : nullptr;
     const bool loses = lost && lost->fraction > kLostFluxWarning;
     if (loses) label += fmt::format(" (loses {:.0f} % of the caustic: {})", 100.0 * lost->fraction, lost->knob);
     const bool black_is_as_good = no_better_than_black(report, run);

@@ -83,8 +83,8 @@ std::string measured_value_problem(const RunRecord& record) {
     if (value < 0.0) return fmt::format("a prepare time of {} s: expected a finite time >= 0", value);
   if (record.memory_bytes < 0 || record.peak_rss_bytes < 0)
     return fmt::format("a memory size of {} bytes: expected a size >= 0", std::min(record.memory_bytes, record.peak_rss_bytes));
-  if (record.lost_flux && !(record.lost_flux->fraction >= 0.0 && record.lost_flux->fraction <= 1.0))
-    return fmt::format("a lost flux fraction of {}: expected a fraction in [0, 1]", record.lost_flux->fraction);
+  if (record.lost_flux && !(record.lost_flux->worst.fraction >= 0.0 && record.lost_flux->worst.fraction <= 1.0))
+    return fmt::format("a lost flux fraction of {}: expected a fraction in [0, 1]", record.lost_flux->worst.fraction);
   return "";
 }
 

@@ -123,7 +123,7 @@ std::optional<LostFluxRecord> lost_flux_record(const std::vector<std::optional<L
   for (const std::optional<LostFlux>& frame : frames)
     if (frame && (!worst || frame->fraction > (*worst)->fraction)) worst = &frame;
   if (!worst) return std::nullopt;
-  LostFluxRecord record{(*worst)->fraction, {}, (*worst)->what, (*worst)->knob, (*worst)->advice};
+  LostFluxRecord record{**worst, {}};
   for (const std::optional<LostFlux>& frame : frames)
     record.frames.push_back(frame ? frame->fraction : std::numeric_limits<double>::quiet_NaN());
   return record;
@@ -232,8 +232,9 @@ RunRecord RunRecord::from_json(const json& original) {
   record.method_record = in.has("method_record") ? in.at("method_record") : json::object();
   if (in.has("lost_flux")) {
     FieldReader lost(in.object("lost_flux"), "lost_flux");
-    record.lost_flux = LostFluxRecord{lost.number("fraction"), lost.numbers_or_empty("frames"), lost.string_or("what", ""),
-                                      lost.string_or("knob", ""), lost.string_or("advice", "")};
+    record.lost_flux = LostFluxRecord{
+        LostFlux{lost.number("fraction"), lost.string_or("what", ""), lost.string_or("knob", ""), lost.string_or("advice", "")},
+        lost.numbers_or_empty("frames")};
   }
   record.images = in.any_or_null("images");
   record.reference_images = in.any_or_null("reference_images");
@@ -290,8 +291,8 @@ json RunRecord::to_json() const {
   if (lost_flux) {
     json frames_json = json::array();
     for (double value : lost_flux->frames) frames_json.push_back(std::isfinite(value) ? json(value) : json());
-    out["lost_flux"] = {{"fraction", lost_flux->fraction}, {"frames", frames_json}, {"what", lost_flux->what},
-                        {"knob", lost_flux->knob}, {"advice", lost_flux->advice}};
+    out["lost_flux"] = lost_flux_json(lost_flux->worst);
+    out["lost_flux"]["frames"] = frames_json;
   }
   if (!images.is_null()) out["images"] = images;
   if (!reference_images.is_null()) out["reference_images"] = reference_images;
@@ -319,7 +320,7 @@ std::optional<double> RunRecord::quantity(const std::string& name) const {
       if (info->field == "memory_bytes") value = static_cast<double>(memory_bytes);
       else if (info->field == "peak_rss_bytes") value = static_cast<double>(peak_rss_bytes);
       else if (info->field == "receiver_pixels" && receiver_pixels) value = static_cast<double>(*receiver_pixels);
-      else if (info->field == "lost_flux" && lost_flux) value = lost_flux->fraction;
+      else if (info->field == "lost_flux" && lost_flux) value = lost_flux->worst.fraction;
       break;
     case QuantitySource::counters: {
       auto found = counters.find(name);

@@ -55,12 +55,11 @@ struct PrepareRecord {
   std::string warning;              // recomputed: why the stored build was not used
 };
 
-// What the run's configuration could not represent (methods/method.h, LostFlux): the largest fraction
-// over its frames, each frame's (NaN where a frame reported none), and the worst frame's explanation.
+// What the run's configuration could not represent (methods/method.h, LostFlux): the worst frame's (its
+// fraction the largest over the frames) and each frame's fraction (NaN where a frame reported none).
 struct LostFluxRecord {
-  double fraction = 0.0;
+  LostFlux worst;
   std::vector<double> frames;
-  std::string what, knob, advice;
 };
 
 // The record of the lost flux of a run's frames (CausticMethod::lost_flux per frame); none when no frame

@@ -95,6 +95,16 @@ TEST(RunRecord, WritesAndReadsEveryField) {
   const RunRecord back = RunRecord::from_json(json::parse(exact.to_json().dump()));
   EXPECT_TRUE(std::isnan(back.metrics.at("psnr")));
   EXPECT_FALSE(back.metric("psnr"));
+  // The lost flux: the worst frame's with every frame's fraction, a frame that reported none as null.
+  RunRecord losing = full_record();
+  losing.lost_flux = lost_flux_record({LostFlux{0.02, "a", "k", "x"}, std::nullopt, LostFlux{0.3, "ball", "volume_radius", "set"}});
+  const json losing_json = losing.to_json();
+  EXPECT_EQ(losing_json["lost_flux"]["frames"], json({0.02, nullptr, 0.3}));
+  const RunRecord losing_back = RunRecord::from_json(json::parse(losing_json.dump()));
+  EXPECT_EQ(losing_back.to_json(), losing_json);
+  EXPECT_EQ(*losing_back.quantity("lost_flux"), 0.3);
+  EXPECT_EQ(losing_back.lost_flux->worst.knob, "volume_radius");
+  EXPECT_FALSE(full_record().quantity("lost_flux")) << "a method that counts none";
   // A failed run keeps only its identity.
   RunRecord failed = full_record();
   failed.status = "failed";

@@ -11,9 +11,15 @@
 
 namespace causticbench {
 
-// The pixel whose footprint holds the photon, when the photon arrived on the side of its surface that
-// faces the camera and a shadow ray from there to the camera is free; nothing otherwise (behind the
-// camera, outside the image, the far side of the surface, hidden). Does not check the pixel's mask.
+// Whether the camera sees the photon at `image` (its projection, CameraFrame::project): it arrived on the
+// side of its surface that faces the camera and a shadow ray from there to the camera is free. For a
+// caller that tests the projected pixel first (the reference's tally, where most photons land outside
+// the receivers' pixels), without projecting twice.
+bool camera_sees(const CameraFrame::ImagePoint& image, const Tracer& tracer, const Photon& photon);
+
+// The pixel whose footprint holds the photon when the camera sees it (camera_sees); nothing otherwise
+// (behind the camera, outside the image, the far side of the surface, hidden). Does not check the
+// pixel's mask.
 std::optional<CameraFrame::ImagePoint> photon_seen_by_camera(const CameraFrame& camera, const Tracer& tracer,
                                                              const Photon& photon);
 

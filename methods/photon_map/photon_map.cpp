@@ -204,8 +204,11 @@ std::optional<LostFlux> PhotonMapMethod::lost_flux(const FrameContext& frame, co
   parallel_blocks(photons_.size(), 2048, [&](size_t begin, size_t end, size_t) {
     for (size_t i = begin; i < end; ++i) {
       const Photon& photon = photons_[i];
-      std::optional<CameraFrame::ImagePoint> image = photon_seen_by_camera(frame.frame.camera, frame.tracer, photon);
-      if (!image || !gbuffer.receiver[static_cast<size_t>(image->y) * gbuffer.width + image->x]) continue;
+      // The receiver mask before the shadow ray, as the reference's tally does.
+      std::optional<CameraFrame::ImagePoint> image = frame.frame.camera.project(photon.position, photon.normal);
+      if (!image || !gbuffer.receiver[static_cast<size_t>(image->y) * gbuffer.width + image->x] ||
+          !camera_sees(*image, frame.tracer, photon))
+        continue;
       seen[i] = luminance(photon.power);
       uint32_t nearest = 0;
       float distance2 = 0.0f;

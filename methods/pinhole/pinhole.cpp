@@ -3,6 +3,8 @@
 // per-pixel work in pinhole_render.cpp.
 #include "methods/pinhole/pinhole.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "core/optics.h"
@@ -225,9 +227,19 @@ nlohmann::json PinholeMethod::interaction_record() const {
 // of a closed glass object, are the method's declared limit, `multiple_bounces`, not counted here.)
 std::optional<LostFlux> PinholeMethod::lost_flux(const FrameContext& frame, const GBuffer&, const ParamSet&) {
   constexpr uint64_t kProbePhotons = 20000, kProbeSeed = 0x5eedba11;
+  LostFlux result;
+  result.knob = "interaction";
+  result.advice = "set interaction: auto (glass refracts, mirrors reflect)";
+  // Every specular object's material modelled (always so under auto): nothing to count, no probes.
+  const std::vector<int> specular = frame.frame.specular_objects();
+  if (std::all_of(specular.begin(), specular.end(),
+                  [&](int object) { return models(interaction_, scene_->objects[object].material); })) {
+    result.what = "nothing: the interaction models every specular object's material";
+    return result;
+  }
   double total = 0.0, lost = 0.0;
   std::vector<std::string> names;
-  for (int object : frame.frame.specular_objects()) {
+  for (int object : specular) {
     const CausticReach reach = probe_caustic_reach(frame.frame, frame.tracer, object, BuildSpaceMap{},
                                                    BoundingSphere{Vec3(0.0f), 1.0f}, kProbePhotons, kProbeSeed);
     total += reach.total_flux;
@@ -236,13 +248,9 @@ std::optional<LostFlux> PinholeMethod::lost_flux(const FrameContext& frame, cons
     lost += reach.total_flux;
     names.push_back("'" + scene_->objects[object].name + "'");
   }
-  LostFlux result;
   result.fraction = total > 0.0 ? std::min(1.0, lost / total) : 0.0;
-  result.what = names.empty() ? "caustic flux of specular objects whose material the interaction does not model"
-                              : fmt::format("caustic flux of {}, whose material interaction: {} does not model",
-                                            fmt::join(names, ", "), interaction_);
-  result.knob = "interaction";
-  result.advice = "set interaction: auto (glass refracts, mirrors reflect)";
+  result.what = fmt::format("caustic flux of {}, whose material interaction: {} does not model", fmt::join(names, ", "),
+                            interaction_);
   return result;
 }
 

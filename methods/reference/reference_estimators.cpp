@@ -28,13 +28,11 @@ uint64_t FootprintTally::credit(const MeasurementPoints& points, const CameraFra
   parallel_blocks(photons.size(), 2048, [&](size_t begin, size_t end, size_t) {
     for (size_t i = begin; i < end; ++i) {
       const Photon& photon = photons[i];
-      // The pixel test first: it is cheap, and most photons of a caustic land outside the receivers' pixels.
+      // The pixel test before the shadow ray: most photons of a caustic land outside the receivers' pixels.
       std::optional<CameraFrame::ImagePoint> image = camera.project(photon.position, photon.normal);
       if (!image) continue;
       int32_t point = points.point_of_pixel[static_cast<size_t>(image->y) * points.width + image->x];
-      if (point < 0) continue;
-      image = photon_seen_by_camera(camera, tracer, photon);
-      if (!image) continue;
+      if (point < 0 || !camera_sees(*image, tracer, photon)) continue;
       target[i] = point;
       weight[i] = image->pixels_per_area;
     }

@@ -2,7 +2,6 @@
 // it reports lost outside the ball (CausticMethod::lost_flux), against the reference (issue 32).
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 
 #include <gtest/gtest.h>
 
@@ -103,11 +102,7 @@ objects:
 // not (the same low sun, fewer photons: the count does not depend on them).
 TEST(LpiVolumeRadius, RenderWarnsAboutWhatAFixedBallLosesAndNamesTheKnob) {
   causticbench::testing::TemporaryFolder folder("lpi_volume_radius_warning");
-  const std::string scene = folder.path("low_sun.yaml");
-  {
-    std::ofstream file(scene);
-    file << kLowSun;
-  }
+  const std::string scene = folder.write("low_sun.yaml", kLowSun);
   std::string output;
   const std::string render = std::string(CAUSTICBENCH_BINARY) + " -q render " + scene +
                              " --method lpi --set photons_per_sample=20000 --set grid_resolution=64 --out " +
