@@ -336,8 +336,8 @@ TEST(ReliabilityLimits, SetTakesDecimalNumbersAndEachKnobOnce) {
     std::string arguments, expected;
   };
   for (const Case& item : {Case{"--set photons=0x10", "key 'photon_map.photons': expected an integer, found '0x10'"},
-                           Case{"--set max_radius=' 0.1'", "expected a decimal number, found ' 0.1'"},
-                           Case{"--set max_radius=infinity", "expected a decimal number, found 'infinity'"},
+                           Case{"--set max_radius=' 0.1'", "expected auto or a decimal number, found ' 0.1'"},
+                           Case{"--set max_radius=infinity", "expected auto or a decimal number, found 'infinity'"},
                            Case{"--set photons=1000 --set photons=2000",
                                 "--set: expected each knob once, found 'photons' twice ('photons=1000' and "
                                 "'photons=2000')"}}) {

@@ -25,7 +25,10 @@ const MethodInfo& PhotonMapMethod::static_info() {
         ParamSpec::integer("photons", 200000, 1, 1e9, "caustic photons emitted per frame", ParamPhase::build),
         ParamSpec::integer("seed", 1, 0, 4e9, "seed of the photon paths", ParamPhase::build),
         ParamSpec::integer("k", 50, 1, 10000, "photons in each density estimate (nearest neighbours)", ParamPhase::render),
-        ParamSpec::real("max_radius", 0.1, 1e-9, 1e9, "largest gather radius, scene units", ParamPhase::render),
+        ParamSpec::real("max_radius", 0.1, 1e-9, 1e9,
+                        "largest gather radius, scene units; auto: 8 times each pixel's footprint on its surface",
+                        ParamPhase::render)
+            .auto_by_default(),
         ParamSpec::real("cone_filter_k", 1.1, 1.0, 100.0, "cone filter constant k >= 1 (Jensen): weight 1 - d / (k r)",
                         ParamPhase::render),
     };
