@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "methods/caustic_mapping/caustic_mapping.h"
 #include "methods/csl/csl.h"
 #include "methods/lpi/lpi.h"
 #include "methods/photon_map/photon_map.h"
@@ -26,6 +27,7 @@ std::vector<MethodEntry>& mutable_registry() {
       entry<PinholeMethod>(),
       entry<LpiMethod>(),
       entry<CslMethod>(),
+      entry<CausticMappingMethod>(),
   };
   return registry;
 }

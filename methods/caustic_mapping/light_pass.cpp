@@ -1,0 +1,355 @@
+// One light and one specular object of caustics mapping: photon buffer, the way out of the object,
+// receiver search, caustic map; and the lookup that reads it.
+#include "methods/caustic_mapping/light_pass.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/optics.h"
+#include "core/parallel.h"
+#include "methods/caustic_mapping/pass_parts.h"
+
+namespace causticbench::caustic_mapping {
+
+namespace {
+
+// A point light sees its object's photon buffer under at most this half-angle (a light inside or at the
+// object's bounding sphere): a perspective window cannot reach 90 degrees.
+constexpr double kWidestHalfAngle = 80.0 * kPiDouble / 180.0;
+// The receiver window's margin around the probed hits and the object (a fraction of its half-size), and
+// the probe's texels a side: the receivers the object can light, found with exact rays, as the window
+// the paper fitted by hand.
+constexpr double kWindowMargin = 0.1;
+constexpr int kProbeSide = 32;
+
+double luminance_of(const Color& c) { return luminance(c); }
+
+// A photon leaving the object: where, which way, with what flux; or why it did not.
+struct Outgoing {
+  bool covered = false;        // a photon-buffer texel on the object
+  bool second_failed = false;  // two_interface: no way out modelled
+  bool one_interface = false;  // refracted once (into a medium the receivers lie in)
+  Vec3 origin{0.0f}, direction{0.0f};
+  Color flux{0.0f};            // after the interfaces and the absorption inside
+  double not_modelled = 0.0;   // luminance of the flux the method does not follow (glass's Fresnel reflection)
+  Color absorption{0.0f};      // one_interface: the medium's coefficient, applied over the way to the receiver
+};
+
+// The photon buffer: per texel the object's front surface seen from the light and, for two_interface,
+// its back surface along the same ray (the back faces the paper renders).
+struct PhotonBuffer {
+  LightView view;
+  int resolution = 0;
+  std::vector<uint8_t> covered;
+  std::vector<Vec3> front, front_normal, back, back_normal;
+  std::vector<uint8_t> has_back;
+  // Through the object along the inward normal from the front (Wyman's d_N, which he precomputes per
+  // vertex; here a ray per texel); 0 where there is no back.
+  std::vector<float> normal_depth;
+  std::vector<Vec3> travel;
+  std::vector<Color> flux;  // the light's flux through the texel
+};
+
+PhotonBuffer render_photon_buffer(const Tracer& tracer, const LightFrame& light, const LightView& view, int object,
+                                  int resolution, double back_distance, bool want_back) {
+  PhotonBuffer buffer;
+  buffer.view = view;
+  buffer.resolution = resolution;
+  const size_t texels = static_cast<size_t>(resolution) * resolution;
+  buffer.covered.assign(texels, 0);
+  buffer.has_back.assign(texels, 0);
+  buffer.front.assign(texels, Vec3(0.0f));
+  buffer.front_normal = buffer.back = buffer.back_normal = buffer.travel = buffer.front;
+  buffer.flux.assign(texels, Color(0.0f));
+  buffer.normal_depth.assign(texels, 0.0f);
+  const Color strength = light.kind == LightKind::directional ? light.light->irradiance : light.light->intensity;
+  parallel_blocks(texels, 1024, [&](size_t begin, size_t end, size_t) {
+    for (size_t texel = begin; texel < end; ++texel) {
+      const int x = static_cast<int>(texel % resolution), y = static_cast<int>(texel / resolution);
+      const Ray ray = view.ray((x + 0.5) / resolution, (y + 0.5) / resolution, back_distance);
+      SurfaceHit hit;
+      // Anything else first is an occluder between the light and the object: no photon (the depth test
+      // of the rasterised buffer).
+      if (!tracer.intersect(ray, hit) || hit.object != object) continue;
+      buffer.covered[texel] = 1;
+      buffer.front[texel] = hit.position;
+      buffer.front_normal[texel] = hit.shading_normal;
+      buffer.travel[texel] = ray.direction;
+      buffer.flux[texel] = strength * static_cast<float>(view.texel_measure(x, y, resolution));
+      if (!want_back) continue;
+      SurfaceHit across;
+      if (tracer.intersect(tracer.spawn(hit, -hit.shading_normal), across) && across.object == object)
+        buffer.normal_depth[texel] = glm::length(across.position - hit.position);
+      Ray inside = tracer.spawn(hit, ray.direction);
+      for (int crossing = 0; crossing < 16; ++crossing) {
+        SurfaceHit next;
+        if (!tracer.intersect(inside, next) || next.object != object) break;
+        buffer.has_back[texel] = 1;
+        buffer.back[texel] = next.position;
+        buffer.back_normal[texel] = next.shading_normal;
+        inside = tracer.spawn(next, ray.direction);
+      }
+    }
+  });
+  return buffer;
+}
+
+// How the photon of `texel` leaves the object: reflected off a mirror, or refracted through glass at one
+// interface or, with two_interface, out of the back by Wyman's image-space approximation (the distance
+// inside from the front and back depths along the light, the exit normal read where the refracted ray
+// has travelled that far).
+Outgoing leave_object(const PhotonBuffer& buffer, size_t texel, const Material& material, const Settings& settings) {
+  Outgoing out;
+  if (!buffer.covered[texel]) return out;
+  out.covered = true;
+  const Vec3 travel = buffer.travel[texel];
+  const Vec3 normal = glm::dot(travel, buffer.front_normal[texel]) < 0.0f ? buffer.front_normal[texel]
+                                                                           : -buffer.front_normal[texel];
+  const float cos_incident = std::max(0.0f, -glm::dot(travel, normal));
+  out.origin = buffer.front[texel];
+  if (material.kind != MaterialKind::glass) {
+    out.flux = buffer.flux[texel] * material.mirror_reflectance(cos_incident);
+    out.direction = reflect(travel, normal);
+    return out;
+  }
+  const float entering = fresnel_dielectric(cos_incident, material.ior);
+  out.not_modelled = luminance_of(buffer.flux[texel]) * entering;
+  Vec3 inside;
+  if (!refract(travel, normal, material.ior, inside)) {  // not from outside, but a grazing ray may round so
+    out.second_failed = true;
+    out.flux = buffer.flux[texel] * (1.0f - entering);
+    return out;
+  }
+  out.flux = buffer.flux[texel] * (1.0f - entering);
+  const bool one = settings.refraction == Settings::Refraction::one_interface ||
+                   (settings.refraction == Settings::Refraction::automatic && !buffer.has_back[texel]);
+  if (one) {
+    out.one_interface = true;
+    out.direction = inside;
+    out.absorption = material.absorption;
+    return out;
+  }
+  // Wyman 2005: the distance through the object along the light (d_V: its back depth less its front
+  // depth) and along the inward normal (d_N), blended by the angles, d = (t / i) d_V + (1 - t / i) d_N
+  // (exact through a sphere's centre, where the ray bends least; near a silhouette d_V alone tends to 0
+  // while the ray crosses most of the object), stepped along the refracted ray; the back face's normal
+  // looked up where that point projects.
+  auto failed = [&] {
+    out.second_failed = true;
+    return out;
+  };
+  if (!buffer.has_back[texel]) return failed();
+  const std::optional<LightView::Projected> front = buffer.view.project(buffer.front[texel]);
+  const std::optional<LightView::Projected> back = buffer.view.project(buffer.back[texel]);
+  if (!front || !back) return failed();
+  const float along_light = static_cast<float>(back->depth - front->depth);
+  const double incident = std::acos(std::clamp(static_cast<double>(cos_incident), 0.0, 1.0));
+  const double transmitted = std::acos(std::clamp(static_cast<double>(-glm::dot(inside, normal)), 0.0, 1.0));
+  const double ratio = incident > 1e-4 ? transmitted / incident : 1.0 / material.ior;
+  const float distance = static_cast<float>(ratio * along_light + (1.0 - ratio) * buffer.normal_depth[texel]);
+  const Vec3 exit = out.origin + inside * distance;
+  const std::optional<LightView::Projected> at = buffer.view.project(exit);
+  if (!at || at->s < 0.0 || at->s >= 1.0 || at->t < 0.0 || at->t >= 1.0) return failed();
+  const int n = buffer.resolution;
+  const size_t exit_texel = static_cast<size_t>(std::min(n - 1, static_cast<int>(at->t * n))) * n +
+                            static_cast<size_t>(std::min(n - 1, static_cast<int>(at->s * n)));
+  if (!buffer.has_back[exit_texel]) return failed();
+  const Vec3 back_normal = buffer.back_normal[exit_texel];
+  const Vec3 facing = glm::dot(inside, back_normal) < 0.0f ? back_normal : -back_normal;
+  const float cos_inside = std::max(0.0f, -glm::dot(inside, facing));
+  const float leaving = fresnel_dielectric(cos_inside, 1.0f / material.ior);
+  Vec3 outside;
+  if (!refract(inside, facing, 1.0f / material.ior, outside)) return failed();  // total internal reflection
+  const Color through = out.flux * glm::exp(-material.absorption * distance);
+  out.not_modelled += luminance_of(through) * leaving;
+  out.flux = through * (1.0f - leaving);
+  out.origin = exit;
+  out.direction = outside;
+  return out;
+}
+
+}  // namespace
+
+Settings Settings::from(const ParamSet& knobs) {
+  Settings settings;
+  settings.photon_resolution = static_cast<int>(knobs.integer("photon_resolution"));
+  settings.map_resolution = static_cast<int>(knobs.integer("caustic_map_resolution"));
+  settings.exact = knobs.text("intersection") == "exact";
+  if (knobs.has("search_iterations")) settings.search_iterations = static_cast<int>(knobs.integer("search_iterations"));
+  if (knobs.has("hit_position")) settings.refine = knobs.text("hit_position") == "plane";
+  const std::string& refraction = knobs.text("refraction");
+  settings.refraction = refraction == "two_interface"   ? Settings::Refraction::two_interface
+                        : refraction == "one_interface" ? Settings::Refraction::one_interface
+                                                        : Settings::Refraction::automatic;
+  const std::string& splat = knobs.text("splat");
+  settings.splat = splat == "point" ? SplatKind::point : splat == "gaussian" ? SplatKind::gaussian : SplatKind::variable;
+  if (knobs.has("splat_radius")) settings.splat_radius = knobs.real("splat_radius");
+  if (knobs.has("splat_photons")) settings.splat_photons = knobs.real("splat_photons");
+  if (knobs.has("max_splat_radius")) settings.max_splat_radius = knobs.real("max_splat_radius");
+  return settings;
+}
+
+void PassStatistics::add(const PassStatistics& other) {
+  photons += other.photons;
+  landed += other.landed;
+  search_failed += other.search_failed;
+  second_interface_failed += other.second_interface_failed;
+  outside_map += other.outside_map;
+  one_interface += other.one_interface;
+  flux_leaving += other.flux_leaving;
+  flux_landed += other.flux_landed;
+  flux_search_failed += other.flux_search_failed;
+  flux_second_interface += other.flux_second_interface;
+  flux_outside_map += other.flux_outside_map;
+  flux_not_modelled += other.flux_not_modelled;
+  search_steps += other.search_steps;
+}
+
+LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, const Settings& settings) {
+  LightPass pass;
+  pass.object = object;
+  pass.light_name = light.light ? light.light->name : "";
+  const SceneFrame& frame = tracer.frame();
+  const BoundingSphere& bounds = frame.bounds[static_cast<size_t>(object)];
+  const Material& material = frame.scene->objects[static_cast<size_t>(object)].material;
+  const std::optional<LightView> view = light_view_of(light, bounds, kWidestHalfAngle);
+  if (!view) return pass;
+  pass.photon_window_half_extent = view->half_extent();
+  // Orthographic rays start outside the whole scene.
+  const double back = glm::length(bounds.center - frame.scene_bounds.center) + frame.scene_bounds.radius + bounds.radius;
+
+  // The photon buffer and each photon's way out of the object.
+  const bool glass = material.kind == MaterialKind::glass;
+  const PhotonBuffer buffer = render_photon_buffer(tracer, light, *view, object, settings.photon_resolution, back,
+                                                   glass && settings.refraction != Settings::Refraction::one_interface);
+  const size_t texels = buffer.covered.size();
+  std::vector<Outgoing> outgoing(texels);
+  parallel_blocks(texels, 1024, [&](size_t begin, size_t end, size_t) {
+    for (size_t texel = begin; texel < end; ++texel) outgoing[texel] = leave_object(buffer, texel, material, settings);
+  });
+
+  // The receiver window: the object's own silhouette (the search starts from the receiver behind a
+  // photon's texel), where a probe of photons meets the receivers with exact rays, and the search's first
+  // step (the start's distance along the ray), which overshoots the hit where the receiver behind the
+  // photon lies farther than the one its ray meets and must still read the map.
+  std::vector<Vec3> points;
+  for (int corner = 0; corner < 8; ++corner)
+    points.push_back(bounds.center + bounds.radius * Vec3(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1));
+  const int stride = std::max(1, settings.photon_resolution / kProbeSide);
+  const ReceiverMap none;
+  for (int y = stride / 2; y < settings.photon_resolution; y += stride)
+    for (int x = stride / 2; x < settings.photon_resolution; x += stride) {
+      const Outgoing& photon = outgoing[static_cast<size_t>(y) * settings.photon_resolution + x];
+      if (!photon.covered || photon.second_failed) continue;
+      const SearchResult probe = search_receiver(none, tracer, photon.origin, photon.direction, 0, true);
+      if (probe.failure != SearchFailure::none) continue;  // leaves the scene: no receiver to hold
+      points.push_back(probe.hit);
+      SurfaceHit behind;
+      const Vec3 travel = view->travel_at(photon.origin);
+      if (first_receiver(tracer, Ray{photon.origin + travel * tracer.epsilon(), travel}, behind))
+        points.push_back(photon.origin + photon.direction * glm::length(behind.position - photon.origin));
+    }
+  const LightView receiver_view =
+      LightView::fitted(*view, points, kWindowMargin)
+          .value_or(light_view_of(light, BoundingSphere{bounds.center, bounds.radius}, kWidestHalfAngle).value());
+  pass.receivers = render_receiver_map(tracer, receiver_view, settings.map_resolution, back);
+
+  // Each photon's receiver, in blocks whose statistics add in block order.
+  const size_t block = 4096, blocks = (texels + block - 1) / block;
+  std::vector<std::vector<LandedPhoton>> landed(blocks);
+  std::vector<std::vector<DroppedPhoton>> dropped(blocks);
+  std::vector<PassStatistics> block_statistics(blocks);
+  const int n = settings.map_resolution;
+  parallel_blocks(texels, block, [&](size_t begin, size_t end, size_t index) {
+    PassStatistics& statistics = block_statistics[index];
+    for (size_t texel = begin; texel < end; ++texel) {
+      const Outgoing& photon = outgoing[texel];
+      if (!photon.covered) continue;
+      ++statistics.photons;
+      statistics.one_interface += photon.one_interface;
+      const double flux = luminance_of(photon.flux);
+      statistics.flux_leaving += flux + photon.not_modelled;
+      statistics.flux_not_modelled += photon.not_modelled;
+      if (photon.second_failed) {
+        ++statistics.second_interface_failed;
+        statistics.flux_second_interface += flux;
+        continue;
+      }
+      const SearchResult found = search_receiver(pass.receivers, tracer, photon.origin, photon.direction,
+                                                 settings.search_iterations, settings.exact, settings.refine);
+      statistics.search_steps += static_cast<uint64_t>(found.steps);
+      if (found.failure != SearchFailure::none) {
+        ++statistics.search_failed;
+        statistics.flux_search_failed += flux;
+        dropped[index].push_back(DroppedPhoton{photon.origin, photon.direction, static_cast<float>(flux)});
+        continue;
+      }
+      const Color arriving = photon.flux * glm::exp(-photon.absorption * glm::length(found.hit - photon.origin));
+      // Absorbed on the way is light the reference absorbs too: neither landed nor lost.
+      statistics.flux_leaving -= flux - luminance_of(arriving);
+      // The caustic map holds light on what the light sees: a hit outside its window, or on a surface hidden
+      // from the light (a wall's far side: exact rays find such hits), has no texel of its own.
+      const std::optional<LightView::Projected> at = receiver_view.project(found.hit);
+      const long map_texel = at ? pass.receivers.texel(at->s, at->t) : -1;
+      if (map_texel < 0 ||
+          !pass.receivers.sees(*at, map_texel, found.hit, pass.receivers.normal[static_cast<size_t>(map_texel)])) {
+        ++statistics.outside_map;
+        statistics.flux_outside_map += luminance_of(arriving);
+        continue;
+      }
+      ++statistics.landed;
+      statistics.flux_landed += luminance_of(arriving);
+      landed[index].push_back(LandedPhoton{static_cast<float>(at->s * n), static_cast<float>(at->t * n), arriving});
+    }
+  });
+  std::vector<LandedPhoton> photons;
+  for (size_t index = 0; index < blocks; ++index) {
+    pass.statistics.add(block_statistics[index]);
+    photons.insert(photons.end(), landed[index].begin(), landed[index].end());
+    pass.dropped.insert(pass.dropped.end(), dropped[index].begin(), dropped[index].end());
+  }
+
+  // The caustic map, as flux per texel measure.
+  std::vector<double> flux;
+  splat_photons(photons, settings, n, flux);
+  pass.density.assign(flux.size(), 0.0f);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const double measure = receiver_view.texel_measure(x, y, n);
+      const size_t texel = static_cast<size_t>(y) * n + x;
+      for (int c = 0; c < 3; ++c) pass.density[texel * 3 + c] = static_cast<float>(flux[texel * 3 + c] / measure);
+    }
+  return pass;
+}
+
+void add_lookup(const LightPass& pass, const Vec3& point, const Vec3& normal, Color& irradiance) {
+  const ReceiverMap& map = pass.receivers;
+  if (pass.density.empty()) return;
+  const std::optional<LightView::Projected> at = map.view.project(point);
+  if (!at) return;
+  const long texel = map.texel(at->s, at->t);
+  if (texel < 0 || !std::isfinite(map.depth[static_cast<size_t>(texel)])) return;
+  if (!map.sees(*at, texel, point, normal)) return;
+  const double cosine = std::abs(glm::dot(normal, map.view.travel_at(point)));
+  // Bilinear over the density (texel centres at half-integers), clamped at the window's edge.
+  const int n = map.resolution;
+  const double fx = std::clamp(at->s * n - 0.5, 0.0, n - 1.0), fy = std::clamp(at->t * n - 0.5, 0.0, n - 1.0);
+  const int x0 = std::min(static_cast<int>(fx), n - 2 < 0 ? 0 : n - 2), y0 = std::min(static_cast<int>(fy), n - 2 < 0 ? 0 : n - 2);
+  const int x1 = std::min(x0 + 1, n - 1), y1 = std::min(y0 + 1, n - 1);
+  const double wx = fx - x0, wy = fy - y0;
+  Color density(0.0f);
+  auto tap = [&](int x, int y, double w) {
+    const size_t i = (static_cast<size_t>(y) * n + x) * 3;
+    density += Color(pass.density[i], pass.density[i + 1], pass.density[i + 2]) * static_cast<float>(w);
+  };
+  tap(x0, y0, (1 - wx) * (1 - wy));
+  tap(x1, y0, wx * (1 - wy));
+  tap(x0, y1, (1 - wx) * wy);
+  tap(x1, y1, wx * wy);
+  // Flux per area across the light times the cosine is irradiance on the surface (directional); from a
+  // point light, flux per steradian times the cosine over the distance squared.
+  const double scale = map.view.is_orthographic() ? cosine : cosine / (at->depth * at->depth);
+  irradiance += density * static_cast<float>(scale);
+}
+
+}  // namespace causticbench::caustic_mapping

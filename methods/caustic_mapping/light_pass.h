@@ -1,0 +1,103 @@
+// One light and one specular object of caustics mapping: the light views, the receiver map, the photon
+// buffer, each photon's way out of the object and to its receiver, the caustic map it is splatted into.
+// The method adds one such pass per light and specular object each frame (their caustic maps add).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/light.h"
+#include "core/tracer.h"
+#include "methods/common/light_view.h"
+#include "methods/param_dict.h"
+
+namespace causticbench::caustic_mapping {
+
+enum class SplatKind { point, gaussian, variable };
+
+struct Settings {
+  int photon_resolution = 512;
+  int map_resolution = 512;
+  int search_iterations = 5;
+  // refraction: two_interface (Wyman 2005), one_interface, or auto: two where the photon buffer sees the
+  // object's back along the light (a solid), one where it does not (a water surface, a sheet).
+  enum class Refraction { automatic, two_interface, one_interface } refraction = Refraction::automatic;
+  bool exact = false;         // intersection: exact (a ray) or image_space (the paper's search)
+  bool refine = true;         // hit_position: plane (the ray meets the found receiver's plane) or texel (the paper's)
+  SplatKind splat = SplatKind::variable;
+  double splat_radius = 1.5;       // gaussian: radius in caustic-map texels
+  double splat_photons = 16.0;     // variable: photons a splat should hold at the local density
+  double max_splat_radius = 16.0;  // variable: the largest radius, texels
+  static Settings from(const ParamSet& knobs);
+};
+
+// What a pass did with its photons, in photons and in flux (luminance of W, summed in a fixed order).
+struct PassStatistics {
+  uint64_t photons = 0;         // covered photon-buffer texels (one photon each)
+  uint64_t landed = 0;          // splatted into the caustic map
+  uint64_t search_failed = 0;   // the receiver search left the light view, found no receiver, or did not converge
+  uint64_t second_interface_failed = 0;  // two_interface: total internal reflection, or the exit point off the object
+  uint64_t outside_map = 0;     // found a receiver outside the caustic map's window, or one the light does not see
+  uint64_t one_interface = 0;   // glass photons refracted at one interface (refraction: one_interface, or auto on a surface)
+  double flux_leaving = 0.0;    // everything leaving the object that the method could model, plus what it cannot
+  double flux_landed = 0.0;
+  double flux_search_failed = 0.0;
+  double flux_second_interface = 0.0;
+  double flux_outside_map = 0.0;
+  double flux_not_modelled = 0.0;  // glass's Fresnel reflection: the method follows the refracted part only
+  uint64_t search_steps = 0;       // receiver-map reads of the image-space search
+  void add(const PassStatistics& other);
+};
+
+// The receivers seen from the light: per texel of the caustic map's window, the first surface that is
+// not a specular object (the scene rendered without them, as the paper does), and its depth from the
+// light (LightView::project's); infinite where the texel sees nothing.
+struct ReceiverMap {
+  LightView view;
+  int resolution = 0;
+  std::vector<Vec3> position;
+  std::vector<Vec3> normal;
+  std::vector<float> depth;
+  // The texel holding window point (s, t), or -1 outside the window.
+  long texel(double s, double t) const;
+  // Side of a texel at `depth` from the light, in scene units.
+  double texel_side(double depth) const;
+  // Whether the light sees a point of this depth (projected at `at`) on a surface of unit `normal`: the
+  // shadow-map test, the depth within a slope-scaled bias of the texel's (a texel's depth spans its side
+  // times the tangent of the surface's slope to the light, plus a texel and a half for the point's place
+  // in it). What the lookup asks of a receiver point, and a landing photon of its hit.
+  bool sees(const LightView::Projected& at, long texel, const Vec3& point, const Vec3& normal) const;
+};
+
+// A photon the search dropped: lost_flux() follows it with an exact ray afterwards, untimed, to tell light
+// that meets a receiver (lost by the estimate) from light that leaves the scene (nothing to lose).
+struct DroppedPhoton {
+  Vec3 origin, direction;
+  float flux = 0.0f;  // luminance, W
+};
+
+struct LightPass {
+  int object = -1;
+  std::string light_name;
+  ReceiverMap receivers;
+  // Flux per caustic-map texel (RGB), then converted to flux per texel measure (LightView::texel_measure:
+  // W/m^2 across the light for a directional light, W/sr from a point light), what the lookup reads.
+  std::vector<float> density;
+  PassStatistics statistics;
+  std::vector<DroppedPhoton> dropped;  // by the receiver search (intersection: image_space)
+  double photon_window_half_extent = 0.0;  // the photon buffer's window (scene units, or tan of the half-angle)
+};
+
+// The first surface along `ray` that is not a specular object (they are looked through, as the receiver
+// map renders the scene without them); false when there is none.
+bool first_receiver(const Tracer& tracer, Ray ray, SurfaceHit& hit);
+
+// Everything one light and one specular object contribute to the frame.
+LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, const Settings& settings);
+
+// E_c of `pass` at a receiver point, added into `irradiance`: the shadow-map test against the receiver map
+// (a slope-scaled depth bias), then the caustic map's density, bilinear, converted to the surface.
+void add_lookup(const LightPass& pass, const Vec3& point, const Vec3& normal, Color& irradiance);
+
+}  // namespace causticbench::caustic_mapping
