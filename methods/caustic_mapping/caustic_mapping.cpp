@@ -101,7 +101,8 @@ nlohmann::json CausticMappingMethod::record() const {
                       {"search_failed", s.search_failed},
                       {"second_interface_failed", s.second_interface_failed},
                       {"outside_map", s.outside_map},
-                      {"one_interface", s.one_interface}});
+                      {"one_interface", s.one_interface},
+                      {"flux_beyond_widest_window", s.flux_outside_window}});
   }
   nlohmann::json record = {{"passes", passes}};
   if (!skipped_lights_.empty()) record["lights_not_modelled"] = skipped_lights_;
@@ -118,22 +119,38 @@ nlohmann::json CausticMappingMethod::record() const {
 std::optional<LostFlux> CausticMappingMethod::lost_flux(const FrameContext& frame, const GBuffer&, const ParamSet&) {
   LostFlux lost;
   const caustic_mapping::PassStatistics& s = statistics_;
-  double search_lost = 0.0, escaped = 0.0;
+  double search_lost = 0.0, escaped = 0.0, absorbed = 0.0;
   for (const LightPass& pass : passes_) {
-    std::vector<uint8_t> reaches(pass.dropped.size(), 0);
+    std::vector<double> arriving(pass.dropped.size(), 0.0);
     parallel_blocks(pass.dropped.size(), 1024, [&](size_t begin, size_t end, size_t) {
       for (size_t i = begin; i < end; ++i) {
         SurfaceHit hit;
         const caustic_mapping::DroppedPhoton& photon = pass.dropped[i];
-        reaches[i] = caustic_mapping::first_receiver(
-            frame.tracer, Ray{photon.origin + photon.direction * frame.tracer.epsilon(), photon.direction}, hit);
+        if (caustic_mapping::first_receiver(
+                frame.tracer, Ray{photon.origin + photon.direction * frame.tracer.epsilon(), photon.direction}, hit,
+                pass.object))
+          arriving[i] = luminance(photon.flux * glm::exp(-photon.absorption * hit.t));
+        else
+          arriving[i] = -1.0;
       }
     });
-    for (size_t i = 0; i < pass.dropped.size(); ++i) (reaches[i] ? search_lost : escaped) += pass.dropped[i].flux;
+    // A photon that meets a receiver loses what would have arrived (the rest of its flux the medium
+    // absorbs); one that meets none left the scene with all of it.
+    for (size_t i = 0; i < pass.dropped.size(); ++i) {
+      const double flux = luminance(pass.dropped[i].flux);
+      if (arriving[i] >= 0.0) {
+        search_lost += arriving[i];
+        absorbed += flux - arriving[i];
+      } else {
+        escaped += flux;
+      }
+    }
   }
   lost.what = "flux leaving the specular objects towards a receiver that no photon delivers: image-space searches "
               "that left the light view or did not converge (checked with an exact ray), second interfaces not "
-              "modelled (total internal reflection, an exit off the object), and receivers outside the caustic map";
+              "modelled (total internal reflection, an exit off the object), receivers outside the caustic map or "
+              "hidden from the light, and a near point light's light beyond the photon buffer's widest window "
+              "(an upper bound)";
   // The larger share names the knob. Glass's Fresnel reflection, which the method does not follow at all,
   // is in the record (fresnel_reflection_not_modelled), not here: no knob recovers it.
   if (search_lost + s.flux_outside_map >= s.flux_second_interface) {
@@ -143,8 +160,8 @@ std::optional<LostFlux> CausticMappingMethod::lost_flux(const FrameContext& fram
     lost.knob = "refraction";
     lost.advice = "the two-interface approximation finds no way out for this light; set refraction: one_interface to compare";
   }
-  const double reaching = s.flux_leaving - s.flux_not_modelled - escaped;
-  const double missing = search_lost + s.flux_second_interface + s.flux_outside_map;
+  const double reaching = s.flux_leaving - s.flux_not_modelled - escaped - absorbed;
+  const double missing = search_lost + s.flux_second_interface + s.flux_outside_map + s.flux_outside_window;
   lost.fraction = reaching > 0.0 ? std::clamp(missing / reaching, 0.0, 1.0) : 0.0;
   return lost;
 }

@@ -26,9 +26,8 @@ class CausticMappingMethod : public CausticMethod {
   Counters counters() const override;
   nlohmann::json record() const override;
   std::vector<MemoryTerm> knob_memory(const PrepareContext& context, const ParamSet& knobs) const override;
-  // The flux of the photons this frame dropped: searches that left the light view or did not converge,
-  // second interfaces that reflected totally, glass's Fresnel reflection (not modelled), and photons
-  // outside the caustic map.
+  // The flux leaving the objects towards a receiver that no photon delivers (caustic_mapping.cpp); glass's
+  // Fresnel reflection, never followed, is in the record instead.
   std::optional<LostFlux> lost_flux(const FrameContext& frame, const GBuffer& gbuffer, const ParamSet& render) override;
 
  private:

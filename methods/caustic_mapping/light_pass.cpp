@@ -80,14 +80,13 @@ PhotonBuffer render_photon_buffer(const Tracer& tracer, const LightFrame& light,
       SurfaceHit across;
       if (tracer.intersect(tracer.spawn(hit, -hit.shading_normal), across) && across.object == object)
         buffer.normal_depth[texel] = glm::length(across.position - hit.position);
-      Ray inside = tracer.spawn(hit, ray.direction);
-      for (int crossing = 0; crossing < 16; ++crossing) {
-        SurfaceHit next;
-        if (!tracer.intersect(inside, next) || next.object != object) break;
+      // The nearest back face along the light: what a depth-tested back-face pass keeps (on a concave
+      // object, the first exit, not the last).
+      SurfaceHit exit;
+      if (tracer.intersect(tracer.spawn(hit, ray.direction), exit) && exit.object == object) {
         buffer.has_back[texel] = 1;
-        buffer.back[texel] = next.position;
-        buffer.back_normal[texel] = next.shading_normal;
-        inside = tracer.spawn(next, ray.direction);
+        buffer.back[texel] = exit.position;
+        buffer.back_normal[texel] = exit.shading_normal;
       }
     }
   });
@@ -112,10 +111,12 @@ Outgoing leave_object(const PhotonBuffer& buffer, size_t texel, const Material& 
     out.direction = reflect(travel, normal);
     return out;
   }
-  const float entering = fresnel_dielectric(cos_incident, material.ior);
+  // From outside, unless the light is inside the object (a point light in the glass).
+  const float eta = glm::dot(travel, buffer.front_normal[texel]) < 0.0f ? material.ior : 1.0f / material.ior;
+  const float entering = fresnel_dielectric(cos_incident, eta);
   out.not_modelled = luminance_of(buffer.flux[texel]) * entering;
   Vec3 inside;
-  if (!refract(travel, normal, material.ior, inside)) {  // not from outside, but a grazing ray may round so
+  if (!refract(travel, normal, eta, inside)) {  // total internal reflection (a light inside), or rounding
     out.second_failed = true;
     out.flux = buffer.flux[texel] * (1.0f - entering);
     return out;
@@ -158,9 +159,12 @@ Outgoing leave_object(const PhotonBuffer& buffer, size_t texel, const Material& 
   const Vec3 facing = glm::dot(inside, back_normal) < 0.0f ? back_normal : -back_normal;
   const float cos_inside = std::max(0.0f, -glm::dot(inside, facing));
   const float leaving = fresnel_dielectric(cos_inside, 1.0f / material.ior);
-  Vec3 outside;
-  if (!refract(inside, facing, 1.0f / material.ior, outside)) return failed();  // total internal reflection
   const Color through = out.flux * glm::exp(-material.absorption * distance);
+  Vec3 outside;
+  if (!refract(inside, facing, 1.0f / material.ior, outside)) {  // total internal reflection
+    out.flux = through;  // what reaches the exit is what is lost there
+    return failed();
+  }
   out.not_modelled += luminance_of(through) * leaving;
   out.flux = through * (1.0f - leaving);
   out.origin = exit;
@@ -202,6 +206,7 @@ void PassStatistics::add(const PassStatistics& other) {
   flux_second_interface += other.flux_second_interface;
   flux_outside_map += other.flux_outside_map;
   flux_not_modelled += other.flux_not_modelled;
+  flux_outside_window += other.flux_outside_window;
   search_steps += other.search_steps;
 }
 
@@ -215,6 +220,20 @@ LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, co
   const std::optional<LightView> view = light_view_of(light, bounds, kWidestHalfAngle);
   if (!view) return pass;
   pass.photon_window_half_extent = view->half_extent();
+  if (light.kind == LightKind::point) {
+    // The solid angle of the bounding sphere's cone from the light (all of it from inside) against the
+    // window's square, 4 atan(h^2 / sqrt(1 + 2 h^2)): nonzero only where the window was capped.
+    const double distance = glm::length(glm::dvec3(bounds.center) - glm::dvec3(light.position));
+    const double ratio = bounds.radius / std::max(distance, 1e-30);
+    const double cone = ratio < 1.0 ? 2.0 * kPiDouble * (1.0 - std::sqrt(1.0 - ratio * ratio)) : 4.0 * kPiDouble;
+    const double h = view->half_extent();
+    const double window = 4.0 * std::atan(h * h / std::sqrt(1.0 + 2.0 * h * h));
+    if (cone > window * 1.0001) {
+      const double outside = luminance_of(light.light->intensity) * (cone - window);
+      pass.statistics.flux_outside_window = outside;
+      pass.statistics.flux_leaving += outside;
+    }
+  }
   // Orthographic rays start outside the whole scene.
   const double back = glm::length(bounds.center - frame.scene_bounds.center) + frame.scene_bounds.radius + bounds.radius;
 
@@ -236,7 +255,8 @@ LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, co
   for (int corner = 0; corner < 8; ++corner)
     points.push_back(bounds.center + bounds.radius * Vec3(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1));
   const int stride = std::max(1, settings.photon_resolution / kProbeSide);
-  const ReceiverMap none;
+  ReceiverMap none;
+  none.object = object;
   for (int y = stride / 2; y < settings.photon_resolution; y += stride)
     for (int x = stride / 2; x < settings.photon_resolution; x += stride) {
       const Outgoing& photon = outgoing[static_cast<size_t>(y) * settings.photon_resolution + x];
@@ -246,13 +266,12 @@ LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, co
       points.push_back(probe.hit);
       SurfaceHit behind;
       const Vec3 travel = view->travel_at(photon.origin);
-      if (first_receiver(tracer, Ray{photon.origin + travel * tracer.epsilon(), travel}, behind))
+      if (first_receiver(tracer, Ray{photon.origin + travel * tracer.epsilon(), travel}, behind, object))
         points.push_back(photon.origin + photon.direction * glm::length(behind.position - photon.origin));
     }
   const LightView receiver_view =
-      LightView::fitted(*view, points, kWindowMargin)
-          .value_or(light_view_of(light, BoundingSphere{bounds.center, bounds.radius}, kWidestHalfAngle).value());
-  pass.receivers = render_receiver_map(tracer, receiver_view, settings.map_resolution, back);
+      LightView::fitted(*view, points, kWindowMargin, std::tan(kWidestHalfAngle)).value_or(*view);
+  pass.receivers = render_receiver_map(tracer, receiver_view, settings.map_resolution, back, object);
 
   // Each photon's receiver, in blocks whose statistics add in block order.
   const size_t block = 4096, blocks = (texels + block - 1) / block;
@@ -281,7 +300,7 @@ LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, co
       if (found.failure != SearchFailure::none) {
         ++statistics.search_failed;
         statistics.flux_search_failed += flux;
-        dropped[index].push_back(DroppedPhoton{photon.origin, photon.direction, static_cast<float>(flux)});
+        dropped[index].push_back(DroppedPhoton{photon.origin, photon.direction, photon.flux, photon.absorption});
         continue;
       }
       const Color arriving = photon.flux * glm::exp(-photon.absorption * glm::length(found.hit - photon.origin));
@@ -316,6 +335,7 @@ LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, co
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
       const double measure = receiver_view.texel_measure(x, y, n);
+      if (!(measure > 0.0)) continue;  // a degenerate window: no area to spread flux over
       const size_t texel = static_cast<size_t>(y) * n + x;
       for (int c = 0; c < 3; ++c) pass.density[texel * 3 + c] = static_cast<float>(flux[texel * 3 + c] / measure);
     }

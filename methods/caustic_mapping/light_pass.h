@@ -47,6 +47,10 @@ struct PassStatistics {
   double flux_outside_map = 0.0;
   double flux_not_modelled = 0.0;  // glass's Fresnel reflection: the method follows the refracted part only
   uint64_t search_steps = 0;       // receiver-map reads of the image-space search
+  // A point light too close to its object for the photon buffer's widest window (80 degrees off its
+  // axis): the light towards the object's bounding sphere beyond the window, an upper bound (the cone
+  // holds directions that miss the object).
+  double flux_outside_window = 0.0;
   void add(const PassStatistics& other);
 };
 
@@ -55,6 +59,7 @@ struct PassStatistics {
 // light (LightView::project's); infinite where the texel sees nothing.
 struct ReceiverMap {
   LightView view;
+  int object = -1;  // the pass's object, not a receiver of its own light
   int resolution = 0;
   std::vector<Vec3> position;
   std::vector<Vec3> normal;
@@ -65,8 +70,8 @@ struct ReceiverMap {
   double texel_side(double depth) const;
   // Whether the light sees a point of this depth (projected at `at`) on a surface of unit `normal`: the
   // shadow-map test, the depth within a slope-scaled bias of the texel's (a texel's depth spans its side
-  // times the tangent of the surface's slope to the light, plus a texel and a half for the point's place
-  // in it). What the lookup asks of a receiver point, and a landing photon of its hit.
+  // times the tangent of the surface's slope to the light: twice that, plus a texel and a half for the
+  // point's place in it). What the lookup asks of a receiver point, and a landing photon of its hit.
   bool sees(const LightView::Projected& at, long texel, const Vec3& point, const Vec3& normal) const;
 };
 
@@ -74,7 +79,8 @@ struct ReceiverMap {
 // that meets a receiver (lost by the estimate) from light that leaves the scene (nothing to lose).
 struct DroppedPhoton {
   Vec3 origin, direction;
-  float flux = 0.0f;  // luminance, W
+  Color flux{0.0f};        // W
+  Color absorption{0.0f};  // of the medium it travels in (one_interface), per scene unit
 };
 
 struct LightPass {
@@ -89,9 +95,10 @@ struct LightPass {
   double photon_window_half_extent = 0.0;  // the photon buffer's window (scene units, or tan of the half-angle)
 };
 
-// The first surface along `ray` that is not a specular object (they are looked through, as the receiver
-// map renders the scene without them); false when there is none.
-bool first_receiver(const Tracer& tracer, Ray ray, SurfaceHit& hit);
+// The first surface along `ray` that receives caustics and is not `skip` (the pass's own object):
+// mirrors and glass are looked through, as the receiver map renders the scene without them (a diffuse
+// mirror other than the pass's object receives); false when there is none.
+bool first_receiver(const Tracer& tracer, Ray ray, SurfaceHit& hit, int skip = -1);
 
 // Everything one light and one specular object contribute to the frame.
 LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, const Settings& settings);

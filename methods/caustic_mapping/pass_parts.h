@@ -9,8 +9,9 @@
 namespace causticbench::caustic_mapping {
 
 // The receiver map over `view`'s window at resolution^2, its rays starting `back` behind the window
-// (orthographic) or at the light (perspective).
-ReceiverMap render_receiver_map(const Tracer& tracer, const LightView& view, int resolution, double back);
+// (orthographic) or at the light (perspective), looking through `object` (the pass's own).
+ReceiverMap render_receiver_map(const Tracer& tracer, const LightView& view, int resolution, double back,
+                                int object = -1);
 
 enum class SearchFailure { none, left_view, no_receiver, not_converged };
 
@@ -38,7 +39,8 @@ struct LandedPhoton {
 
 // Splats the photons into an n x n RGB flux map (3 n^2 doubles, zeroed first) with the settings' kernel,
 // each photon's weights normalised to 1 over the texels inside the map, so that every photon's flux lands
-// whole. Deterministic for any thread count (each row band adds its photons in their order).
+// whole. Deterministic for any thread count (each row band adds the photons that touch it by their
+// first row, then in photon order).
 void splat_photons(const std::vector<LandedPhoton>& photons, const Settings& settings, int n, std::vector<double>& flux);
 
 }  // namespace causticbench::caustic_mapping

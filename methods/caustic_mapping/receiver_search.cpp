@@ -9,12 +9,12 @@
 
 namespace causticbench::caustic_mapping {
 
-bool first_receiver(const Tracer& tracer, Ray ray, SurfaceHit& hit) {
+bool first_receiver(const Tracer& tracer, Ray ray, SurfaceHit& hit, int skip) {
   const Scene& scene = *tracer.frame().scene;
   // A ray can cross a specular object at most a few times (in and out of each); 64 covers any scene.
   for (int crossing = 0; crossing < 64; ++crossing) {
     if (!tracer.intersect(ray, hit)) return false;
-    if (!scene.objects[hit.object].material.is_specular()) return true;
+    if (hit.object != skip && scene.objects[hit.object].material.receives_caustics()) return true;
     ray = tracer.spawn(hit, ray.direction);
   }
   return false;
@@ -39,9 +39,10 @@ bool ReceiverMap::sees(const LightView::Projected& at, long texel, const Vec3& p
   return std::abs(at.depth - depth[static_cast<size_t>(texel)]) <= texel_side(at.depth) * (1.5 + 2.0 * slope);
 }
 
-ReceiverMap render_receiver_map(const Tracer& tracer, const LightView& view, int resolution, double back) {
+ReceiverMap render_receiver_map(const Tracer& tracer, const LightView& view, int resolution, double back, int object) {
   ReceiverMap map;
   map.view = view;
+  map.object = object;
   map.resolution = resolution;
   const size_t texels = static_cast<size_t>(resolution) * resolution;
   map.position.assign(texels, Vec3(0.0f));
@@ -51,7 +52,7 @@ ReceiverMap render_receiver_map(const Tracer& tracer, const LightView& view, int
     for (size_t texel = begin; texel < end; ++texel) {
       const int x = static_cast<int>(texel % resolution), y = static_cast<int>(texel / resolution);
       SurfaceHit hit;
-      if (!first_receiver(tracer, view.ray((x + 0.5) / resolution, (y + 0.5) / resolution, back), hit)) continue;
+      if (!first_receiver(tracer, view.ray((x + 0.5) / resolution, (y + 0.5) / resolution, back), hit, object)) continue;
       const std::optional<LightView::Projected> projected = view.project(hit.position);
       if (!projected) continue;
       map.position[texel] = hit.position;
@@ -86,7 +87,7 @@ SearchResult search_receiver(const ReceiverMap& map, const Tracer& tracer, const
   SearchResult result;
   if (exact) {
     SurfaceHit hit;
-    if (!first_receiver(tracer, Ray{origin + direction * tracer.epsilon(), direction}, hit)) {
+    if (!first_receiver(tracer, Ray{origin + direction * tracer.epsilon(), direction}, hit, map.object)) {
       result.failure = SearchFailure::no_receiver;
       return result;
     }

@@ -76,7 +76,8 @@ double LightView::texel_measure(int x, int y, int n) const {
   return corner_solid_angle(u1, v1) - corner_solid_angle(u0, v1) - corner_solid_angle(u1, v0) + corner_solid_angle(u0, v0);
 }
 
-std::optional<LightView> LightView::fitted(const LightView& like, const std::vector<Vec3>& points, double margin) {
+std::optional<LightView> LightView::fitted(const LightView& like, const std::vector<Vec3>& points, double margin,
+                                          double widest_tan) {
   double low_x = std::numeric_limits<double>::infinity(), low_y = low_x, high_x = -low_x, high_y = -low_x;
   for (const Vec3& point : points) {
     const glm::dvec3 d = glm::dvec3(point) - glm::dvec3(like.eye_);
@@ -84,8 +85,8 @@ std::optional<LightView> LightView::fitted(const LightView& like, const std::vec
     if (!like.orthographic_) {
       const double z = glm::dot(d, glm::dvec3(like.axis_));
       if (z <= 1e-6 * glm::length(d)) continue;  // behind the eye: no window of this view holds it
-      x /= z;
-      y /= z;
+      x = std::clamp(x / z, -widest_tan, widest_tan);
+      y = std::clamp(y / z, -widest_tan, widest_tan);
     }
     low_x = std::min(low_x, x), high_x = std::max(high_x, x);
     low_y = std::min(low_y, y), high_y = std::max(high_y, y);
@@ -95,6 +96,7 @@ std::optional<LightView> LightView::fitted(const LightView& like, const std::vec
   view.offset_s_ = 0.5 * (low_x + high_x);
   view.offset_t_ = 0.5 * (low_y + high_y);
   view.half_extent_ = std::max({0.5 * (high_x - low_x), 0.5 * (high_y - low_y), 1e-6}) * (1.0 + margin);
+  if (!like.orthographic_) view.half_extent_ = std::min(view.half_extent_, widest_tan);
   return view;
 }
 

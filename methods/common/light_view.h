@@ -41,7 +41,10 @@ class LightView {
   // Where a window of the same kind, looking the same way, holds every point of `points` (light-space
   // bounds) with `margin` of its half-size around them. Points behind a perspective eye are left out
   // (no window holds them); nothing when no point is left.
-  static std::optional<LightView> fitted(const LightView& like, const std::vector<Vec3>& points, double margin);
+  // A perspective window reaches at most `widest_tan` off its axis (the tangent of its widest angle):
+  // points beyond it are held at that edge (what falls outside is the caller's to count).
+  static std::optional<LightView> fitted(const LightView& like, const std::vector<Vec3>& points, double margin,
+                                         double widest_tan = 1e30);
   const Vec3& eye() const { return eye_; }
   const Vec3& axis() const { return axis_; }
   double half_extent() const { return half_extent_; }
