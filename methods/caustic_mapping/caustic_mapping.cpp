@@ -60,7 +60,7 @@ size_t CausticMappingMethod::memory_bytes() const {
   for (const LightPass& pass : passes_) {
     const caustic_mapping::ReceiverMap& map = pass.receivers;
     bytes += map.position.size() * sizeof(Vec3) + map.normal.size() * sizeof(Vec3) + map.depth.size() * sizeof(float) +
-             pass.density.size() * sizeof(float);
+             pass.density.size() * sizeof(float) + pass.dropped.size() * sizeof(caustic_mapping::DroppedPhoton);
   }
   return bytes;
 }
@@ -129,7 +129,7 @@ std::optional<LostFlux> CausticMappingMethod::lost_flux(const FrameContext& fram
         if (caustic_mapping::first_receiver(
                 frame.tracer, Ray{photon.origin + photon.direction * frame.tracer.epsilon(), photon.direction}, hit,
                 pass.object))
-          arriving[i] = luminance(photon.flux * glm::exp(-photon.absorption * hit.t));
+          arriving[i] = luminance(photon.flux * glm::exp(-photon.absorption * glm::length(hit.position - photon.origin)));
         else
           arriving[i] = -1.0;
       }
