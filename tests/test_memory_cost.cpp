@@ -162,6 +162,17 @@ TEST(MemoryCost, CslRaysAndImagesGrowAsDeclared) {
   }
 }
 
+TEST(MemoryCost, CausticMappingBuffersAndMapsGrowAsDeclared) {
+  for (const CostCase& cost : std::vector<CostCase>{
+           {"photon_resolution", "caustic_mapping", "glass_sphere.yaml", {"caustic_map_resolution=64"},
+            {"photon_resolution=256"}, {"photon_resolution=1024"}},
+           {"caustic_map_resolution", "caustic_mapping", "glass_sphere.yaml", {"photon_resolution=64"},
+            {"caustic_map_resolution=256"}, {"caustic_map_resolution=1536"}},
+       }) {
+    expect_growth_within_declared(cost);
+  }
+}
+
 // `render` with CAUSTICBENCH_AVAILABLE_MEMORY set: exit code and output.
 int render_with_memory(const std::string& available, const std::string& method, const std::string& knobs,
                        const std::string& out, std::string& output) {
