@@ -22,8 +22,6 @@ constexpr double kWidestHalfAngle = 80.0 * kPiDouble / 180.0;
 constexpr double kWindowMargin = 0.1;
 constexpr int kProbeSide = 32;
 
-double luminance_of(const Color& c) { return luminance(c); }
-
 // A photon leaving the object: where, which way, with what flux; or why it did not.
 struct Outgoing {
   bool covered = false;        // a photon-buffer texel on the object
@@ -114,7 +112,7 @@ Outgoing leave_object(const PhotonBuffer& buffer, size_t texel, const Material& 
   // From outside, unless the light is inside the object (a point light in the glass).
   const float eta = glm::dot(travel, buffer.front_normal[texel]) < 0.0f ? material.ior : 1.0f / material.ior;
   const float entering = fresnel_dielectric(cos_incident, eta);
-  out.not_modelled = luminance_of(buffer.flux[texel]) * entering;
+  out.not_modelled = luminance(buffer.flux[texel]) * entering;
   Vec3 inside;
   if (!refract(travel, normal, eta, inside)) {  // total internal reflection (a light inside), or rounding
     out.second_failed = true;
@@ -165,7 +163,7 @@ Outgoing leave_object(const PhotonBuffer& buffer, size_t texel, const Material& 
     out.flux = through;  // what reaches the exit is what is lost there
     return failed();
   }
-  out.not_modelled += luminance_of(through) * leaving;
+  out.not_modelled += luminance(through) * leaving;
   out.flux = through * (1.0f - leaving);
   out.origin = exit;
   out.direction = outside;
@@ -201,7 +199,6 @@ void PassStatistics::add(const PassStatistics& other) {
   outside_map += other.outside_map;
   one_interface += other.one_interface;
   flux_leaving += other.flux_leaving;
-  flux_landed += other.flux_landed;
   flux_search_failed += other.flux_search_failed;
   flux_second_interface += other.flux_second_interface;
   flux_outside_map += other.flux_outside_map;
@@ -229,7 +226,7 @@ LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, co
     const double h = view->half_extent();
     const double window = 4.0 * std::atan(h * h / std::sqrt(1.0 + 2.0 * h * h));
     if (cone > window * 1.0001) {
-      const double outside = luminance_of(light.light->intensity) * (cone - window);
+      const double outside = luminance(light.light->intensity) * (cone - window);
       pass.statistics.flux_outside_window = outside;
       pass.statistics.flux_leaving += outside;
     }
@@ -286,7 +283,7 @@ LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, co
       if (!photon.covered) continue;
       ++statistics.photons;
       statistics.one_interface += photon.one_interface;
-      const double flux = luminance_of(photon.flux);
+      const double flux = luminance(photon.flux);
       statistics.flux_leaving += flux + photon.not_modelled;
       statistics.flux_not_modelled += photon.not_modelled;
       if (photon.second_failed) {
@@ -305,7 +302,7 @@ LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, co
       }
       const Color arriving = photon.flux * glm::exp(-photon.absorption * glm::length(found.hit - photon.origin));
       // Absorbed on the way is light the reference absorbs too: neither landed nor lost.
-      statistics.flux_leaving -= flux - luminance_of(arriving);
+      statistics.flux_leaving -= flux - luminance(arriving);
       // The caustic map holds light on what the light sees: a hit outside its window, or on a surface hidden
       // from the light (a wall's far side: exact rays find such hits), has no texel of its own.
       const std::optional<LightView::Projected> at = receiver_view.project(found.hit);
@@ -313,11 +310,10 @@ LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, co
       if (map_texel < 0 ||
           !pass.receivers.sees(*at, map_texel, found.hit, pass.receivers.normal[static_cast<size_t>(map_texel)])) {
         ++statistics.outside_map;
-        statistics.flux_outside_map += luminance_of(arriving);
+        statistics.flux_outside_map += luminance(arriving);
         continue;
       }
       ++statistics.landed;
-      statistics.flux_landed += luminance_of(arriving);
       landed[index].push_back(LandedPhoton{static_cast<float>(at->s * n), static_cast<float>(at->t * n), arriving});
     }
   });

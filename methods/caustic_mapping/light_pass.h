@@ -41,7 +41,6 @@ struct PassStatistics {
   uint64_t outside_map = 0;     // found a receiver outside the caustic map's window, or one the light does not see
   uint64_t one_interface = 0;   // glass photons refracted at one interface (refraction: one_interface, or auto on a surface)
   double flux_leaving = 0.0;    // everything leaving the object that the method could model, plus what it cannot
-  double flux_landed = 0.0;
   double flux_search_failed = 0.0;
   double flux_second_interface = 0.0;
   double flux_outside_map = 0.0;

@@ -8,13 +8,6 @@ namespace causticbench {
 
 namespace {
 
-// Any unit vector perpendicular to `axis`, and the third of a right-handed frame.
-void frame_around(const Vec3& axis, Vec3& right, Vec3& up) {
-  const Vec3 helper = std::abs(axis.y) < 0.9f ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
-  right = glm::normalize(glm::cross(helper, axis));
-  up = glm::cross(axis, right);
-}
-
 // The solid angle of the rectangle [0, u] x [0, v] of the plane at unit depth, seen from the eye
 // (signed with u v): the primitive of du dv / (1 + u^2 + v^2)^(3/2).
 double corner_solid_angle(double u, double v) { return std::atan(u * v / std::sqrt(1.0 + u * u + v * v)); }
@@ -26,7 +19,7 @@ LightView LightView::orthographic(const Vec3& travel, const Vec3& centre, double
   view.orthographic_ = true;
   view.axis_ = glm::normalize(travel);
   view.eye_ = centre;
-  frame_around(view.axis_, view.right_, view.up_);
+  orthonormal_basis(view.axis_, view.right_, view.up_);
   view.half_extent_ = half_extent;
   return view;
 }
@@ -36,7 +29,7 @@ LightView LightView::perspective(const Vec3& eye, const Vec3& centre, double tan
   view.orthographic_ = false;
   view.eye_ = eye;
   view.axis_ = glm::normalize(centre - eye);
-  frame_around(view.axis_, view.right_, view.up_);
+  orthonormal_basis(view.axis_, view.right_, view.up_);
   view.half_extent_ = tan_half;
   return view;
 }
