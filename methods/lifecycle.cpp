@@ -163,8 +163,8 @@ std::vector<SequenceOutput> play_sequence(CausticMethod& method, const std::vect
           outputs[r].images[f] = std::move(image);
           outputs[r].memory_bytes = method.memory_bytes();
           outputs[r].counters = method.counters();
-          outputs[r].method_record = method.record();
           outputs[r].lost_flux[f] = method.lost_flux(posed.context(), posed.gbuffer, render_sets[r]);
+          outputs[r].method_record = method.record();
         }
       }
     }

