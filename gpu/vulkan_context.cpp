@@ -1,5 +1,7 @@
 #include "gpu/vulkan_context.h"
 
+#include "gpu/pipeline_parts.h"
+
 #include <algorithm>
 #include <cstring>
 
@@ -43,11 +45,17 @@ Context::Context() {
   vkGetPhysicalDeviceQueueFamilyProperties(physical_, &family_count, nullptr);
   std::vector<VkQueueFamilyProperties> families(family_count);
   vkGetPhysicalDeviceQueueFamilyProperties(physical_, &family_count, families.data());
+  // A queue that computes and rasterises (the raster pipelines of gpu/raster.h), else one that computes.
   uint32_t family = UINT32_MAX;
+  const VkQueueFlags both = VK_QUEUE_COMPUTE_BIT | VK_QUEUE_GRAPHICS_BIT;
+  for (uint32_t i = 0; i < family_count; ++i) {
+    if ((families[i].queueFlags & both) == both && family == UINT32_MAX) family = i;
+  }
   for (uint32_t i = 0; i < family_count; ++i) {
     if ((families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) && family == UINT32_MAX) family = i;
   }
   if (family == UINT32_MAX) throw VulkanError("Vulkan: the device has no compute queue");
+  graphics_ = (families[family].queueFlags & VK_QUEUE_GRAPHICS_BIT) != 0;
   timestamps_ = families[family].timestampValidBits > 0 && properties.limits.timestampComputeAndGraphics;
   float priority = 1.0f;
   VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -215,13 +223,7 @@ CubeTexture::CubeTexture(Context& context, int size, const std::vector<std::vect
   image_info.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
   image_info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
   check(vkCreateImage(device, &image_info, nullptr, &image_), "vkCreateImage");
-  VkMemoryRequirements requirements;
-  vkGetImageMemoryRequirements(device, image_, &requirements);
-  VkMemoryAllocateInfo memory_info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  memory_info.allocationSize = requirements.size;
-  memory_info.memoryTypeIndex = context.memory_type(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  check(vkAllocateMemory(device, &memory_info, nullptr, &memory_), "vkAllocateMemory");
-  check(vkBindImageMemory(device, image_, memory_, 0), "vkBindImageMemory");
+  memory_ = bind_device_memory(context, image_);
 
   // All levels through one staging buffer, one copy region per level (6 layers each).
   size_t total = 0;
@@ -288,27 +290,8 @@ ComputePipeline::ComputePipeline(Context& context, const uint32_t* spirv, size_t
                                  uint32_t push_constant_bytes, uint32_t image_count)
     : context_(context), buffer_count_(buffer_count), push_constant_bytes_(push_constant_bytes), image_count_(image_count) {
   VkDevice device = context.device();
-  std::vector<VkDescriptorSetLayoutBinding> bindings(buffer_count + image_count);
-  for (uint32_t i = 0; i < buffer_count + image_count; ++i) {
-    VkDescriptorType type = i < buffer_count ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-    bindings[i] = VkDescriptorSetLayoutBinding{i, type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
-  }
-  VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  set_info.bindingCount = buffer_count + image_count;
-  set_info.pBindings = bindings.data();
-  check(vkCreateDescriptorSetLayout(device, &set_info, nullptr, &set_layout_), "vkCreateDescriptorSetLayout");
-  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_bytes};
-  VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  layout_info.setLayoutCount = 1;
-  layout_info.pSetLayouts = &set_layout_;
-  layout_info.pushConstantRangeCount = push_constant_bytes ? 1 : 0;
-  layout_info.pPushConstantRanges = &range;
-  check(vkCreatePipelineLayout(device, &layout_info, nullptr, &layout_), "vkCreatePipelineLayout");
-  VkShaderModuleCreateInfo module_info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  module_info.codeSize = spirv_bytes;
-  module_info.pCode = spirv;
-  VkShaderModule module;
-  check(vkCreateShaderModule(device, &module_info, nullptr, &module), "vkCreateShaderModule");
+  pipeline_layout(device, buffer_count, image_count, VK_SHADER_STAGE_COMPUTE_BIT, push_constant_bytes, set_layout_, layout_);
+  VkShaderModule module = shader_module(device, spirv, spirv_bytes);
   VkComputePipelineCreateInfo pipeline_info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   pipeline_info.stage = VkPipelineShaderStageCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   pipeline_info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -318,25 +301,13 @@ ComputePipeline::ComputePipeline(Context& context, const uint32_t* spirv, size_t
   VkResult result = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &pipeline_);
   vkDestroyShaderModule(device, module, nullptr);
   check(result, "vkCreateComputePipelines");
-  VkDescriptorPoolSize pool_sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffer_count},
-                                        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, std::max(1u, image_count)}};
-  VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  pool_info.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
-  pool_info.maxSets = 1;
-  pool_info.poolSizeCount = 2;
-  pool_info.pPoolSizes = pool_sizes;
-  check(vkCreateDescriptorPool(device, &pool_info, nullptr, &pool_), "vkCreateDescriptorPool");
-  if (context.has_timestamps()) {
-    VkQueryPoolCreateInfo query_info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
-    query_info.queryType = VK_QUERY_TYPE_TIMESTAMP;
-    query_info.queryCount = 2;
-    check(vkCreateQueryPool(device, &query_info, nullptr, &queries_), "vkCreateQueryPool");
-  }
+  pool_ = descriptor_pool(device, buffer_count, image_count);
+  timestamps_ = std::make_unique<TimestampPair>(context);
 }
 
 ComputePipeline::~ComputePipeline() {
   VkDevice device = context_.device();
-  if (queries_) vkDestroyQueryPool(device, queries_, nullptr);
+  timestamps_.reset();
   vkDestroyDescriptorPool(device, pool_, nullptr);
   vkDestroyPipeline(device, pipeline_, nullptr);
   vkDestroyPipelineLayout(device, layout_, nullptr);
@@ -349,53 +320,24 @@ double ComputePipeline::dispatch(const std::vector<const Buffer*>& buffers, cons
     throw VulkanError("Vulkan: wrong number of buffers or images for the pipeline");
   }
   VkDevice device = context_.device();
-  VkDescriptorSetAllocateInfo allocate{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-  allocate.descriptorPool = pool_;
-  allocate.descriptorSetCount = 1;
-  allocate.pSetLayouts = &set_layout_;
-  VkDescriptorSet set;
-  check(vkAllocateDescriptorSets(device, &allocate, &set), "vkAllocateDescriptorSets");
-  std::vector<VkDescriptorBufferInfo> infos(buffer_count_);
-  std::vector<VkDescriptorImageInfo> image_infos(image_count_);
-  std::vector<VkWriteDescriptorSet> writes(buffer_count_ + image_count_);
-  for (uint32_t i = 0; i < buffer_count_ + image_count_; ++i) {
-    writes[i] = VkWriteDescriptorSet{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    writes[i].dstSet = set;
-    writes[i].dstBinding = i;
-    writes[i].descriptorCount = 1;
-    if (i < buffer_count_) {
-      infos[i] = VkDescriptorBufferInfo{buffers[i]->handle(), 0, VK_WHOLE_SIZE};
-      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-      writes[i].pBufferInfo = &infos[i];
-    } else {
-      const CubeTexture* image = images[i - buffer_count_];
-      image_infos[i - buffer_count_] = VkDescriptorImageInfo{image->sampler(), image->view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-      writes[i].pImageInfo = &image_infos[i - buffer_count_];
-    }
-  }
-  vkUpdateDescriptorSets(device, buffer_count_ + image_count_, writes.data(), 0, nullptr);
+  VkDescriptorSet set = storage_set(device, pool_, set_layout_, buffers, images);
   context_.submit([&](VkCommandBuffer commands) {
-    if (queries_) {
-      vkCmdResetQueryPool(commands, queries_, 0, 2);
-      vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 0);
-    }
+    timestamps_->begin(commands);
+    // What an earlier submission wrote (a copy, another kernel, a raster pass) is what this one reads.
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+    vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &barrier,
+                         0, nullptr, 0, nullptr);
     vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
     vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set, 0, nullptr);
     if (push_constant_bytes_) {
       vkCmdPushConstants(commands, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_bytes_, push_constants);
     }
     vkCmdDispatch(commands, groups_x, 1, 1);
-    if (queries_) vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 1);
+    timestamps_->end(commands);
   });
-  double milliseconds = 0.0;
-  if (queries_) {
-    uint64_t stamps[2] = {0, 0};
-    check(vkGetQueryPoolResults(device, queries_, 0, 2, sizeof(stamps), stamps, sizeof(uint64_t),
-                                VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
-          "vkGetQueryPoolResults");
-    milliseconds = static_cast<double>(stamps[1] - stamps[0]) * context_.timestamp_period() * 1e-6;
-  }
+  const double milliseconds = timestamps_->milliseconds();
   vkFreeDescriptorSets(device, pool_, 1, &set);
   return milliseconds;
 }

@@ -22,6 +22,7 @@ class VulkanError : public std::runtime_error {
 };
 
 class Context;
+class TimestampPair;
 
 // A storage buffer in device memory.
 class Buffer {
@@ -84,7 +85,7 @@ class ComputePipeline {
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
-  VkQueryPool queries_ = VK_NULL_HANDLE;
+  std::unique_ptr<TimestampPair> timestamps_;
 };
 
 class Context {
@@ -105,6 +106,8 @@ class Context {
   // samplerAnisotropy is enabled when the device has it; 1 otherwise.
   float max_anisotropy() const { return max_anisotropy_; }
   bool has_timestamps() const { return timestamps_; }
+  // Whether the queue rasterises too (gpu/raster.h needs it).
+  bool has_graphics() const { return graphics_; }
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags flags) const;
   // One-shot command buffer: record with `record`, submit, wait.
   template <typename Record>
@@ -126,6 +129,7 @@ class Context {
   std::string device_name_;
   bool cpu_device_ = false;
   bool timestamps_ = false;
+  bool graphics_ = false;
   float timestamp_period_ = 1.0f;
   float max_anisotropy_ = 1.0f;
 };

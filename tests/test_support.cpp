@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include "gpu/vulkan_context.h"
+
 namespace causticbench::testing {
 
 const char* const kSmallGlassSphere = R"(
@@ -148,6 +150,15 @@ std::vector<std::filesystem::path> shipped_experiments(const std::string& prefix
       files.push_back(entry.path());
   std::sort(files.begin(), files.end());
   return files;
+}
+
+std::string no_vulkan_device() {
+  try {
+    gpu::Context context;
+    return "";
+  } catch (const std::exception& error) {
+    return error.what();
+  }
 }
 
 std::string input_error_message(const std::function<void()>& action) {

@@ -31,6 +31,14 @@ FrameResult render_sequence(const Scene& scene, const std::string& method, const
 // `text` with the first occurrence of `from` replaced (a test failure when there is none).
 std::string replace_once(std::string text, const std::string& from, const std::string& to);
 
+// Empty when a Vulkan device answers (a GPU, or lavapipe), otherwise why not: the GPU backends' tests
+// skip with it (CAUSTICBENCH_SKIP_WITHOUT_VULKAN).
+std::string no_vulkan_device();
+#define CAUSTICBENCH_SKIP_WITHOUT_VULKAN(what)                                                    \
+  if (const std::string why = causticbench::testing::no_vulkan_device(); !why.empty()) {          \
+    GTEST_SKIP() << "no Vulkan device for " << (what) << ": " << why;                             \
+  }
+
 // The message of the InputError that `action` throws, or "no error".
 std::string input_error_message(const std::function<void()>& action);
 

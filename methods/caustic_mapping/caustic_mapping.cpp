@@ -24,6 +24,8 @@ void CausticMappingMethod::check_scene(const Scene& scene) const {
 
 void CausticMappingMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
   const caustic_mapping::Settings settings = caustic_mapping::Settings::from(frame_knobs);
+  settings_ = settings;
+  vulkan_ = frame_knobs.has("backend") && frame_knobs.text("backend") == "vulkan";
   passes_.clear();
   statistics_ = caustic_mapping::PassStatistics{};
   skipped_lights_.clear();
@@ -35,13 +37,18 @@ void CausticMappingMethod::update(const FrameContext& frame, const ParamSet& fra
       continue;
     }
     for (int object : objects) {
-      passes_.push_back(caustic_mapping::run_pass(frame.tracer, light, object, settings));
-      statistics_.add(passes_.back().statistics);
+      // The light-view passes on the CPU's ray tracer for both backends; the search and splats where the
+      // backend runs them.
+      passes_.push_back(caustic_mapping::begin_pass(frame.tracer, light, object, settings));
+      if (!vulkan_) caustic_mapping::land_and_splat(frame.tracer, settings, passes_.back());
     }
   }
+  if (vulkan_) update_on_device();
+  for (const LightPass& pass : passes_) statistics_.add(pass.statistics);
 }
 
 Image CausticMappingMethod::render(const GBuffer& gbuffer, const ParamSet&) {
+  if (vulkan_) return render_on_device(gbuffer);
   Image result(gbuffer.width, gbuffer.height, 3);
   parallel_blocks(gbuffer.pixel_count(), 1024, [&](size_t begin, size_t end, size_t) {
     for (size_t pixel = begin; pixel < end; ++pixel) {
@@ -60,7 +67,8 @@ size_t CausticMappingMethod::memory_bytes() const {
   for (const LightPass& pass : passes_) {
     const caustic_mapping::ReceiverMap& map = pass.receivers;
     bytes += map.position.size() * sizeof(Vec3) + map.normal.size() * sizeof(Vec3) + map.depth.size() * sizeof(float) +
-             pass.density.size() * sizeof(float) + pass.dropped.size() * sizeof(caustic_mapping::DroppedPhoton);
+             pass.density.size() * sizeof(float) + pass.leaving.size() * sizeof(caustic_mapping::PhotonRay) +
+             pass.dropped.size() * sizeof(uint32_t);
   }
   return bytes;
 }
@@ -125,7 +133,7 @@ std::optional<LostFlux> CausticMappingMethod::lost_flux(const FrameContext& fram
     parallel_blocks(pass.dropped.size(), 1024, [&](size_t begin, size_t end, size_t) {
       for (size_t i = begin; i < end; ++i) {
         SurfaceHit hit;
-        const caustic_mapping::DroppedPhoton& photon = pass.dropped[i];
+        const caustic_mapping::PhotonRay& photon = pass.leaving[pass.dropped[i]];
         if (caustic_mapping::first_receiver(
                 frame.tracer, Ray{photon.origin + photon.direction * frame.tracer.epsilon(), photon.direction}, hit,
                 pass.object))
@@ -137,7 +145,7 @@ std::optional<LostFlux> CausticMappingMethod::lost_flux(const FrameContext& fram
     // A photon that meets a receiver loses what would have arrived (the rest of its flux the medium
     // absorbs); one that meets none left the scene with all of it.
     for (size_t i = 0; i < pass.dropped.size(); ++i) {
-      const double flux = luminance(pass.dropped[i].flux);
+      const double flux = luminance(pass.leaving[pass.dropped[i]].flux);
       if (arriving[i] >= 0.0) {
         search_lost += arriving[i];
         absorbed += flux - arriving[i];

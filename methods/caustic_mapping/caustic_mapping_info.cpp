@@ -25,6 +25,15 @@ const MethodInfo& CausticMappingMethod::static_info() {
                           "where a photon's ray meets the receivers: the paper's search over the receiver map, or a "
                           "real ray (to measure the estimate's error and cost)",
                           ParamPhase::frame),
+        // Declared after intersection: the device has no exact rays, so setting backend: vulkan with
+        // intersection: exact is refused before any work starts.
+        ParamSpec::choice("backend", "cpu", {"cpu", "vulkan"},
+                          "where the photons are searched, splatted and looked up: the CPU, or a Vulkan raster "
+                          "pipeline (photon stage, sprites blended into the caustic map, lookup); the light-view "
+                          "passes are the CPU's ray tracer for both",
+                          ParamPhase::frame)
+            .only_when("intersection", {"image_space"})
+            .unkeyed_at_default(),
         ParamSpec::integer("search_iterations", 5, 0, 64,
                            "steps of the image-space search after its start at the photon's own texel",
                            ParamPhase::frame)

@@ -207,7 +207,7 @@ void PassStatistics::add(const PassStatistics& other) {
   search_steps += other.search_steps;
 }
 
-LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, const Settings& settings) {
+LightPass begin_pass(const Tracer& tracer, const LightFrame& light, int object, const Settings& settings) {
   LightPass pass;
   pass.object = object;
   pass.light_name = light.light ? light.light->name : "";
@@ -243,6 +243,23 @@ LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, co
   parallel_blocks(texels, 1024, [&](size_t begin, size_t end, size_t) {
     for (size_t texel = begin; texel < end; ++texel) outgoing[texel] = leave_object(buffer, texel, material, settings);
   });
+  PassStatistics& statistics = pass.statistics;
+  pass.leaving.reserve(static_cast<size_t>(
+      std::count_if(outgoing.begin(), outgoing.end(), [](const Outgoing& photon) { return photon.covered && !photon.second_failed; })));
+  for (const Outgoing& photon : outgoing) {
+    if (!photon.covered) continue;
+    ++statistics.photons;
+    statistics.one_interface += photon.one_interface;
+    const double flux = luminance(photon.flux);
+    statistics.flux_leaving += flux + photon.not_modelled;
+    statistics.flux_not_modelled += photon.not_modelled;
+    if (photon.second_failed) {
+      ++statistics.second_interface_failed;
+      statistics.flux_second_interface += flux;
+      continue;
+    }
+    pass.leaving.push_back(PhotonRay{photon.origin, photon.direction, photon.flux, photon.absorption});
+  }
 
   // The receiver window: the object's own silhouette (the search starts from the receiver behind a
   // photon's texel), where a probe of photons meets the receivers with exact rays, and the search's first
@@ -269,51 +286,58 @@ LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, co
   const LightView receiver_view =
       LightView::fitted(*view, points, kWindowMargin, std::tan(kWidestHalfAngle)).value_or(*view);
   pass.receivers = render_receiver_map(tracer, receiver_view, settings.map_resolution, back, object);
+  return pass;
+}
 
+void count_landing(PassStatistics& statistics, const PhotonRay& photon, Landing landing, const Color& arriving, int steps) {
+  statistics.search_steps += static_cast<uint64_t>(steps);
+  const double flux = luminance(photon.flux);
+  if (landing == Landing::search_failed) {
+    ++statistics.search_failed;
+    statistics.flux_search_failed += flux;
+    return;
+  }
+  // Absorbed on the way is light the reference absorbs too: neither landed nor lost.
+  statistics.flux_leaving -= flux - luminance(arriving);
+  if (landing == Landing::outside_map) {
+    ++statistics.outside_map;
+    statistics.flux_outside_map += luminance(arriving);
+    return;
+  }
+  ++statistics.landed;
+}
+
+void land_and_splat(const Tracer& tracer, const Settings& settings, LightPass& pass) {
+  if (pass.receivers.resolution == 0) return;  // no light view
   // Each photon's receiver, in blocks whose statistics add in block order.
-  const size_t block = 4096, blocks = (texels + block - 1) / block;
+  const size_t count = pass.leaving.size(), block = 4096, blocks = (count + block - 1) / block;
   std::vector<std::vector<LandedPhoton>> landed(blocks);
-  std::vector<std::vector<DroppedPhoton>> dropped(blocks);
+  std::vector<std::vector<uint32_t>> dropped(blocks);
   std::vector<PassStatistics> block_statistics(blocks);
   const int n = settings.map_resolution;
-  parallel_blocks(texels, block, [&](size_t begin, size_t end, size_t index) {
+  const ReceiverMap& receivers = pass.receivers;
+  parallel_blocks(count, block, [&](size_t begin, size_t end, size_t index) {
     PassStatistics& statistics = block_statistics[index];
-    for (size_t texel = begin; texel < end; ++texel) {
-      const Outgoing& photon = outgoing[texel];
-      if (!photon.covered) continue;
-      ++statistics.photons;
-      statistics.one_interface += photon.one_interface;
-      const double flux = luminance(photon.flux);
-      statistics.flux_leaving += flux + photon.not_modelled;
-      statistics.flux_not_modelled += photon.not_modelled;
-      if (photon.second_failed) {
-        ++statistics.second_interface_failed;
-        statistics.flux_second_interface += flux;
-        continue;
-      }
-      const SearchResult found = search_receiver(pass.receivers, tracer, photon.origin, photon.direction,
+    for (size_t i = begin; i < end; ++i) {
+      const PhotonRay& photon = pass.leaving[i];
+      const SearchResult found = search_receiver(receivers, tracer, photon.origin, photon.direction,
                                                  settings.search_iterations, settings.exact, settings.refine);
-      statistics.search_steps += static_cast<uint64_t>(found.steps);
       if (found.failure != SearchFailure::none) {
-        ++statistics.search_failed;
-        statistics.flux_search_failed += flux;
-        dropped[index].push_back(DroppedPhoton{photon.origin, photon.direction, photon.flux, photon.absorption});
+        count_landing(statistics, photon, Landing::search_failed, Color(0.0f), found.steps);
+        dropped[index].push_back(static_cast<uint32_t>(i));
         continue;
       }
       const Color arriving = photon.flux * glm::exp(-photon.absorption * glm::length(found.hit - photon.origin));
-      // Absorbed on the way is light the reference absorbs too: neither landed nor lost.
-      statistics.flux_leaving -= flux - luminance(arriving);
       // The caustic map holds light on what the light sees: a hit outside its window, or on a surface hidden
       // from the light (a wall's far side: exact rays find such hits), has no texel of its own.
-      const std::optional<LightView::Projected> at = receiver_view.project(found.hit);
-      const long map_texel = at ? pass.receivers.texel(at->s, at->t) : -1;
+      const std::optional<LightView::Projected> at = receivers.view.project(found.hit);
+      const long map_texel = at ? receivers.texel(at->s, at->t) : -1;
       if (map_texel < 0 ||
-          !pass.receivers.sees(*at, map_texel, found.hit, pass.receivers.normal[static_cast<size_t>(map_texel)])) {
-        ++statistics.outside_map;
-        statistics.flux_outside_map += luminance(arriving);
+          !receivers.sees(*at, map_texel, found.hit, receivers.normal[static_cast<size_t>(map_texel)])) {
+        count_landing(statistics, photon, Landing::outside_map, arriving, found.steps);
         continue;
       }
-      ++statistics.landed;
+      count_landing(statistics, photon, Landing::landed, arriving, found.steps);
       landed[index].push_back(LandedPhoton{static_cast<float>(at->s * n), static_cast<float>(at->t * n), arriving});
     }
   });
@@ -330,11 +354,16 @@ LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, co
   pass.density.assign(flux.size(), 0.0f);
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
-      const double measure = receiver_view.texel_measure(x, y, n);
+      const double measure = receivers.view.texel_measure(x, y, n);
       if (!(measure > 0.0)) continue;  // a degenerate window: no area to spread flux over
       const size_t texel = static_cast<size_t>(y) * n + x;
       for (int c = 0; c < 3; ++c) pass.density[texel * 3 + c] = static_cast<float>(flux[texel * 3 + c] / measure);
     }
+}
+
+LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, const Settings& settings) {
+  LightPass pass = begin_pass(tracer, light, object, settings);
+  land_and_splat(tracer, settings, pass);
   return pass;
 }
 

@@ -74,13 +74,18 @@ struct ReceiverMap {
   bool sees(const LightView::Projected& at, long texel, const Vec3& point, const Vec3& normal) const;
 };
 
-// A photon the search dropped: lost_flux() follows it with an exact ray afterwards, untimed, to tell light
-// that meets a receiver (lost by the estimate) from light that leaves the scene (nothing to lose).
-struct DroppedPhoton {
+// A photon leaving its object towards the receivers: what the light-view passes hand to the receiver
+// search, on either backend (the Vulkan backend uploads them). lost_flux() follows the ones the search
+// dropped with an exact ray afterwards, untimed, to tell light that meets a receiver (lost by the
+// estimate) from light that leaves the scene (nothing to lose).
+struct PhotonRay {
   Vec3 origin, direction;
   Color flux{0.0f};        // W
   Color absorption{0.0f};  // of the medium it travels in (one_interface), per scene unit
 };
+
+// What became of a photon's search: one definition for both backends (the Vulkan photon stage writes it).
+enum class Landing : uint32_t { landed = 0, search_failed = 1, outside_map = 2 };
 
 struct LightPass {
   int object = -1;
@@ -88,9 +93,11 @@ struct LightPass {
   ReceiverMap receivers;
   // Flux per caustic-map texel (RGB), then converted to flux per texel measure (LightView::texel_measure:
   // W/m^2 across the light for a directional light, W/sr from a point light), what the lookup reads.
+  // Empty with backend: vulkan (the map stays on the device).
   std::vector<float> density;
   PassStatistics statistics;
-  std::vector<DroppedPhoton> dropped;  // by the receiver search (intersection: image_space)
+  std::vector<PhotonRay> leaving;    // in photon-buffer texel order; second interfaces that failed are not here
+  std::vector<uint32_t> dropped;     // indices into `leaving` of the photons the receiver search dropped
   double photon_window_half_extent = 0.0;  // the photon buffer's window (scene units, or tan of the half-angle)
 };
 
@@ -99,7 +106,18 @@ struct LightPass {
 // mirror other than the pass's object receives); false when there is none.
 bool first_receiver(const Tracer& tracer, Ray ray, SurfaceHit& hit, int skip = -1);
 
-// Everything one light and one specular object contribute to the frame.
+// The light-view half of a pass, the same for both backends: the light views, the photon buffer, each
+// photon's way out of the object (pass.leaving, with the statistics of what left), the receiver map.
+LightPass begin_pass(const Tracer& tracer, const LightFrame& light, int object, const Settings& settings);
+
+// Adds one searched photon to the statistics: `arriving` is what reaches its receiver (landed and
+// outside_map), `steps` the receiver-map reads. Both backends count through it.
+void count_landing(PassStatistics& statistics, const PhotonRay& photon, Landing landing, const Color& arriving, int steps);
+
+// The CPU backend's half: every photon of `pass.leaving` searched, counted, splatted into pass.density.
+void land_and_splat(const Tracer& tracer, const Settings& settings, LightPass& pass);
+
+// Everything one light and one specular object contribute to the frame on the CPU: both halves.
 LightPass run_pass(const Tracer& tracer, const LightFrame& light, int object, const Settings& settings);
 
 // E_c of `pass` at a receiver point, added into `irradiance`: the shadow-map test against the receiver map

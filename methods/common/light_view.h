@@ -48,6 +48,12 @@ class LightView {
   const Vec3& eye() const { return eye_; }
   const Vec3& axis() const { return axis_; }
   double half_extent() const { return half_extent_; }
+  // The window's frame (a Vulkan backend repeats project() from them): its axes across the view, and its
+  // centre off the axis in window units.
+  const Vec3& right() const { return right_; }
+  const Vec3& up() const { return up_; }
+  double offset_s() const { return offset_s_; }
+  double offset_t() const { return offset_t_; }
 
  private:
   bool orthographic_ = true;

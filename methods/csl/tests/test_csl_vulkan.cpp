@@ -23,20 +23,7 @@ using causticbench::testing::scene_from_yaml;
 
 namespace {
 
-// Why no Vulkan device can run the kernel here, or "" when one can.
-std::string no_vulkan_device() {
-  try {
-    gpu::Context context;
-    return "";
-  } catch (const std::exception& error) {
-    return error.what();
-  }
-}
-
-#define SKIP_WITHOUT_VULKAN()                                                         \
-  if (const std::string why = no_vulkan_device(); !why.empty()) {                     \
-    GTEST_SKIP() << "no Vulkan device for csl's backend: vulkan: " << why;            \
-  }
+#define SKIP_WITHOUT_VULKAN() CAUSTICBENCH_SKIP_WITHOUT_VULKAN("csl's backend: vulkan")
 
 PhaseKnobs csl_knobs(const std::vector<std::string>& knobs) { return causticbench::testing::method_knobs("csl", knobs); }
 

@@ -42,16 +42,6 @@ objects:
     animation: {keyframes: [{frame: 0, translate: [0.6, 0.15, 0], rotate: [0, 0, 0]}, {frame: 2, translate: [0.6, 0.15, 0], rotate: [0, 50, 0]}]}
 )";
 
-// Empty when a Vulkan device answers, otherwise why not.
-std::string missing_vulkan() {
-  try {
-    gpu::Context context;
-    return "";
-  } catch (const std::exception& error) {
-    return error.what();
-  }
-}
-
 struct Agreement {
   double relmse, flux_ratio, cpu_flux;
 };
@@ -73,7 +63,7 @@ Agreement cpu_against_vulkan(const Scene& scene, std::vector<std::string> knobs)
 // flux within 1e-4, the bounds of pinhole's backends, since here too only the order and rounding of
 // the float arithmetic differ (and the shells' cell is located with float side tests, not double).
 TEST(LpiVulkan, AgreesWithTheCpuBackendOnGridAndShells) {
-  if (const std::string why = missing_vulkan(); !why.empty()) GTEST_SKIP() << "no Vulkan device: " << why;
+  CAUSTICBENCH_SKIP_WITHOUT_VULKAN("lpi's backend: vulkan");
   const Scene scene = scene_from_yaml(kTwoObjects);
   const std::vector<std::string> base = {"photons_per_sample=4000", "light_subdivision=0", "volume_radius=2.5"};
   const std::vector<std::vector<std::string>> cases = {
@@ -145,7 +135,7 @@ TEST(LpiVulkan, RefusesStorageItDoesNotEvaluate) {
 // The portable path for GPU machines: causticbench dumps an lpi frame (CPU backend), causticbench-gpubench
 // replays it on the first Vulkan device, causticbench gpu-compare finds the two in agreement.
 TEST(LpiVulkan, GpubenchReplaysADumpedFrame) {
-  if (const std::string why = missing_vulkan(); !why.empty()) GTEST_SKIP() << "no Vulkan device: " << why;
+  CAUSTICBENCH_SKIP_WITHOUT_VULKAN("lpi's backend: vulkan");
   causticbench::testing::TemporaryFolder folder("causticbench_lpi_dump_test");
   const std::string scene = folder.write("scene.yaml", kTwoObjects);
   const std::string dump = folder.path("dump");

@@ -1,0 +1,161 @@
+// caustic_mapping's Vulkan backend (backend: vulkan: the photon stage, sprites blended into the caustic
+// map, the lookup; methods/caustic_mapping/vulkan_caustic_mapping.h) against its CPU backend on three
+// scenes (a flat mirror, the glass sphere's two interfaces, a mirror sphere under a point light), with
+// every splat kernel and both hit positions; the statistics both count; the refusal of exact rays on the
+// device; and the dump -> causticbench-gpubench -> gpu-compare round trip. Skipped, saying why, where no
+// Vulkan device exists.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "core/image_statistics.h"
+#include "gpu/vulkan_context.h"
+#include "methods/caustic_mapping/frame_data.h"
+#include "methods/caustic_mapping/tests/flat_mirror.h"
+#include "methods/frame_dump.h"
+#include "tests/test_support.h"
+
+using namespace causticbench;
+using causticbench::testing::kFlatMirror;
+using causticbench::testing::kSmallGlassSphere;
+using causticbench::testing::render;
+using causticbench::testing::scene_from_yaml;
+
+namespace {
+
+#define SKIP_WITHOUT_VULKAN() CAUSTICBENCH_SKIP_WITHOUT_VULKAN("caustic_mapping's backend: vulkan")
+
+// A mirror sphere under a point light close above it: a perspective light view, a fan of grazing rays.
+const char* const kMirrorSpherePointLight = R"(
+camera: {position: [0, 2.5, 3.0], look_at: [0, 0, 0], fov_degrees: 50, resolution: [48, 48]}
+lights: [{type: point, position: [0.3, 2.0, 0.2], intensity: 5}]
+objects:
+  - shape: {type: quad, size: [8, 8]}
+    material: {type: diffuse, albedo: 0.8}
+  - shape: {type: sphere, radius: 0.4}
+    material: {type: mirror, reflectance: 0.9}
+    transform: {translate: [0, 0.6, 0]}
+)";
+
+struct Agreement {
+  double relmse, flux;
+};
+
+// Both backends on one scene and knob set: the images agree within caustic_mapping's dump-format bounds
+// (methods/caustic_mapping/frame_replay.cpp; gpu-compare applies the same), and so do their counts.
+void expect_backends_agree(const std::string& scene_text, const std::vector<std::string>& knobs, const std::string& what) {
+  const Scene scene = scene_from_yaml(scene_text);
+  std::vector<std::string> vulkan_knobs = knobs;
+  vulkan_knobs.push_back("backend=vulkan");
+  const FrameResult cpu = render(scene, "caustic_mapping", knobs);
+  const FrameResult vulkan = render(scene, "caustic_mapping", vulkan_knobs);
+  const std::vector<uint8_t>& receivers = cpu.gbuffer.receiver;
+  const double cpu_flux = masked_sum(cpu.caustic, receivers);
+  ASSERT_GT(cpu_flux, 0.0) << what;
+  const Agreement measured{relative_mse(vulkan.caustic, cpu.caustic, receivers),
+                           masked_sum(vulkan.caustic, receivers) / cpu_flux - 1.0};
+  std::string text = what;
+  for (const std::string& knob : knobs) text += " " + knob;
+  std::printf("%s: vulkan against cpu relMSE %.3g, flux %+.3g\n", text.c_str(), measured.relmse, measured.flux);
+  const FrameDumpFormat& format = frame_dump_format("caustic_mapping");
+  EXPECT_LT(measured.relmse, format.relmse_tolerance) << text;
+  EXPECT_LT(std::abs(measured.flux), format.flux_tolerance) << text;
+  // The photons the device counts as landed, searched in vain or outside the map are the CPU's, but
+  // for the few whose float search reads a neighbouring texel (at most 0.1 % of them).
+  auto counter = [](const FrameResult& result, const std::string& name) {
+    for (const auto& [key, value] : result.counters)
+      if (key == name) return value;
+    return -1.0;
+  };
+  EXPECT_EQ(counter(vulkan, "photons"), counter(cpu, "photons")) << text;
+  EXPECT_GT(counter(cpu, "photons_landed"), 0.0) << text;
+  EXPECT_NEAR(counter(vulkan, "photons_landed"), counter(cpu, "photons_landed"), 1e-3 * counter(cpu, "photons")) << text;
+  EXPECT_NEAR(counter(vulkan, "receiver_map_reads"), counter(cpu, "receiver_map_reads"),
+              1e-3 * counter(cpu, "receiver_map_reads")) << text;
+  ASSERT_TRUE(cpu.lost_flux && vulkan.lost_flux);
+  EXPECT_NEAR(vulkan.lost_flux->fraction, cpu.lost_flux->fraction, 1e-3) << text;
+}
+
+}  // namespace
+
+TEST(CausticMappingVulkan, AgreesWithTheCpuOnAFlatMirrorForEverySplat) {
+  SKIP_WITHOUT_VULKAN();
+  for (const char* splat : {"splat=point", "splat=gaussian", "splat=variable"})
+    expect_backends_agree(kFlatMirror, {splat, "photon_resolution=128", "caustic_map_resolution=128"}, "flat mirror");
+  expect_backends_agree(kFlatMirror, {"hit_position=texel", "photon_resolution=128", "caustic_map_resolution=128"},
+                        "flat mirror");
+}
+
+TEST(CausticMappingVulkan, AgreesWithTheCpuOnTheGlassSphere) {
+  SKIP_WITHOUT_VULKAN();
+  expect_backends_agree(kSmallGlassSphere, {"photon_resolution=128", "caustic_map_resolution=128"}, "glass sphere");
+  expect_backends_agree(kSmallGlassSphere,
+                        {"photon_resolution=128", "caustic_map_resolution=96", "splat=gaussian", "splat_radius=3",
+                         "search_iterations=2", "refraction=one_interface"},
+                        "glass sphere");
+}
+
+TEST(CausticMappingVulkan, AgreesWithTheCpuUnderAPointLight) {
+  SKIP_WITHOUT_VULKAN();
+  expect_backends_agree(kMirrorSpherePointLight, {"photon_resolution=128", "caustic_map_resolution=128"},
+                        "mirror sphere, point light");
+  expect_backends_agree(kMirrorSpherePointLight,
+                        {"photon_resolution=96", "caustic_map_resolution=128", "splat=variable", "splat_photons=4",
+                         "max_splat_radius=4", "search_iterations=12"},
+                        "mirror sphere, point light");
+}
+
+// The device has no exact rays: intersection: exact with backend: vulkan is refused when the knobs are
+// read, before any pass is rendered.
+TEST(CausticMappingVulkan, ExactRaysOnTheDeviceAreAnInputError) {
+  const std::string message = causticbench::testing::input_error_message(
+      [] { causticbench::testing::method_knobs("caustic_mapping", {"intersection=exact", "backend=vulkan"}); });
+  EXPECT_NE(message.find("backend"), std::string::npos) << message;
+  EXPECT_NE(message.find("intersection is image_space"), std::string::npos) << message;
+}
+
+// causticbench dumps a caustic_mapping frame (the CPU backend's), causticbench-gpubench replays it (photon
+// stage, splats, lookup) on the first Vulkan device, causticbench gpu-compare checks the two; a replay
+// output off by a tenth of a percent disagrees, and a damaged dump names its file.
+TEST(CausticMappingVulkan, DumpReplayCompareRoundTrip) {
+  SKIP_WITHOUT_VULKAN();
+  const causticbench::testing::TemporaryFolder folder("caustic_mapping_dump_test");
+  std::ofstream(folder.path("scene.yaml")) << kSmallGlassSphere;
+  const std::string dump = folder.path("dump");
+  std::string output;
+  int code = causticbench::testing::run_command(
+      std::string(CAUSTICBENCH_BINARY) + " -q render " + folder.path("scene.yaml") +
+          " --method caustic_mapping --set photon_resolution=128 --set caustic_map_resolution=128 --out " +
+          folder.path("out") + " --dump-frame " + dump,
+      output);
+  ASSERT_EQ(code, 0) << output;
+  EXPECT_EQ(read_dump_method(dump), "caustic_mapping");
+  const CausticMappingFrameData frame = read_caustic_mapping_frame_data(dump);
+  EXPECT_EQ(frame.width, 40u);
+  EXPECT_EQ(frame.pass_count(), 1u);
+  EXPECT_GT(frame.photon_count(), 1000u);
+  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_GPUBENCH) + " " + dump + " --repetitions 2", output);
+  ASSERT_EQ(code, 0) << output;
+  std::stringstream timings;
+  timings << std::ifstream(dump + "/gpu_timings.json").rdbuf();
+  EXPECT_NE(timings.str().find("\"method\": \"caustic_mapping\""), std::string::npos) << timings.str();
+  EXPECT_NE(timings.str().find("\"photons\": " + std::to_string(frame.photon_count())), std::string::npos) << timings.str();
+  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
+  EXPECT_EQ(code, 0) << output;
+  EXPECT_NE(output.find("): agree"), std::string::npos) << output;
+  std::vector<float> wrong = read_floats(dump + "/vulkan_irradiance.bin");
+  for (float& value : wrong) value *= 0.999f;
+  write_floats(dump + "/vulkan_irradiance.bin", wrong);
+  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
+  EXPECT_EQ(code, 1) << output;
+  std::vector<float> photons = read_floats(dump + "/photons.bin");
+  photons.resize(photons.size() - 3);
+  write_floats(dump + "/photons.bin", photons);
+  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_NE(output.find("photons.bin is not whole photons"), std::string::npos) << output;
+}
