@@ -174,14 +174,31 @@ std::optional<CameraFrame::ImagePoint> CameraFrame::project(const Vec3& point, c
     image.distance = static_cast<float>(z);
     image.to_camera = -forward_;
   }
-  // The inverse of primary_ray's pixel centres: x + 0.5 = (sx / (aspect h) + 1) W / 2.
-  const double aspect = static_cast<double>(width_) / static_cast<double>(height_);
-  const double px = (sx / (aspect * half_height_) + 1.0) * 0.5 * width_;
-  const double py = (1.0 - sy / half_height_) * 0.5 * height_;
+  const glm::dvec2 at = image_of(sx, sy);
+  const double px = at.x, py = at.y;
   if (!(px >= 0.0 && px < width_ && py >= 0.0 && py < height_)) return std::nullopt;
   image.x = std::min(width_ - 1, static_cast<int>(px));
   image.y = std::min(height_ - 1, static_cast<int>(py));
   return image;
+}
+
+// The inverse of primary_ray's pixel centres: x + 0.5 = (sx / (aspect h) + 1) W / 2, for (sx, sy) on the
+// image plane (at depth 1 for a perspective camera, in scene units for an orthographic one).
+glm::dvec2 CameraFrame::image_of(double sx, double sy) const {
+  const double aspect = static_cast<double>(width_) / static_cast<double>(height_);
+  return glm::dvec2((sx / (aspect * half_height_) + 1.0) * 0.5 * width_, (1.0 - sy / half_height_) * 0.5 * height_);
+}
+
+std::optional<glm::dvec2> CameraFrame::image_position(const Vec3& point) const {
+  const glm::dvec3 q = glm::dvec3(point) - glm::dvec3(origin_);
+  const double z = glm::dot(q, glm::dvec3(forward_));
+  double sx = glm::dot(q, glm::dvec3(right_)), sy = glm::dot(q, glm::dvec3(up_));
+  if (type_ == Camera::Type::perspective) {
+    if (!(z > 0.0)) return std::nullopt;
+    sx /= z;
+    sy /= z;
+  }
+  return image_of(sx, sy);
 }
 
 Camera read_camera(const ConfigNode& node) {

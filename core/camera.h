@@ -4,6 +4,8 @@
 #include <optional>
 #include <string>
 
+#include <glm/vec2.hpp>
+
 #include "core/config.h"
 #include "core/math.h"
 #include "core/transform.h"
@@ -63,11 +65,17 @@ class CameraFrame {
   // plane at depth 1 (solid angle |n . q| / |q|^3 per area, image area 1 / cos^3 per solid angle);
   // for an orthographic one |n . forward|. Divided by a pixel's area on that plane.
   std::optional<ImagePoint> project(const Vec3& point, const Vec3& normal) const;
+  // Where `point` lands on the image plane in continuous pixel units (pixel (x, y) spans [x, x + 1) x
+  // [y, y + 1), x right, y down), inside the image or not; nothing behind a perspective camera (at or
+  // behind its eye's plane). What a method that covers an object's screen footprint projects.
+  std::optional<glm::dvec2> image_position(const Vec3& point) const;
   int width() const { return width_; }
   int height() const { return height_; }
   Vec3 position() const { return origin_; }
 
  private:
+  glm::dvec2 image_of(double sx, double sy) const;
+
   Camera::Type type_;
   Vec3 origin_, forward_, right_, up_;
   float half_height_;  // tan(fov/2) for perspective, view_height/2 for orthographic

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "methods/caustic_mapping/caustic_mapping.h"
+#include "methods/caustic_volume/caustic_volume.h"
 #include "methods/csl/csl.h"
 #include "methods/lpi/lpi.h"
 #include "methods/photon_map/photon_map.h"
@@ -28,6 +29,7 @@ std::vector<MethodEntry>& mutable_registry() {
       entry<LpiMethod>(),
       entry<CslMethod>(),
       entry<CausticMappingMethod>(),
+      entry<CausticVolumeMethod>(),
   };
   return registry;
 }

@@ -16,6 +16,17 @@
 
 namespace causticbench::testing {
 
+const char* const kFlatMirror = R"(
+camera: {type: orthographic, position: [1.5, 1.0, 0], look_at: [1.5, 0, 0], up: [0, 0, 1], view_height: 1.2, resolution: [96, 96]}
+lights: [{type: directional, direction: [1, -1, 0], irradiance: 2}]
+objects:
+  - shape: {type: quad, size: [8, 8]}
+    material: {type: diffuse, albedo: 0.8}
+  - shape: {type: quad, size: [0.6, 0.6]}
+    material: {type: mirror, reflectance: 0.9}
+    transform: {translate: [1.5, 1.5, 0], rotate: [0, 0, 112.5]}
+)";
+
 const char* const kSmallGlassSphere = R"(
 camera: {position: [0, 2.0, 2.0], look_at: [0, 0.1, 0], fov_degrees: 35, resolution: [40, 40]}
 lights: [{type: directional, direction: [0.3, -1, 0.2], irradiance: 1}]

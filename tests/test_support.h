@@ -14,6 +14,18 @@ namespace causticbench::testing {
 
 // A glass sphere (radius 0.4) above a diffuse floor under a tilted directional light, 40 x 40 pixels.
 extern const char* const kSmallGlassSphere;
+// The flat mirror of the caustic methods' tests, whose caustic is known in closed form: a 0.6 x 0.6
+// mirror (reflectance 0.9) 1.5 above the floor, under a sun of irradiance 2 travelling at 45 degrees down
+// towards +x, turned (112.5 degrees about z) so that it reflects the light straight down: the
+// beam keeps its cross-section, the mirror's area times the cosine to the light (0.383), and lights a
+// 0.6 x 0.230 rectangle of the floor with E = 2 x 0.9 = 1.8 exactly. (Under a horizontal sun the light
+// would see the floor edge-on, and caustics mapping, which finds receivers in the light's view, none.)
+// An orthographic camera under the mirror looks straight down, so that a pixel's area on the floor is
+// exactly (1.2 / 96)^2 and the pixels' sum is the flux.
+extern const char* const kFlatMirror;
+inline constexpr double kBeamIrradiance = 1.8;
+inline constexpr double kBeamHalfX = 0.3 * 0.38268343, kBeamHalfZ = 0.3;
+
 // Reference knobs for the small scenes' method-against-reference tests: 6 x 200,000 photons, seed 7
 // (not the methods' default seed).
 extern const std::vector<std::string> kSmallSceneReferenceKnobs;

@@ -11,7 +11,6 @@
 #include "core/scene.h"
 #include "core/tracer.h"
 #include "methods/caustic_mapping/pass_parts.h"
-#include "methods/caustic_mapping/tests/flat_mirror.h"
 #include "tests/test_support.h"
 
 using namespace causticbench;

@@ -15,7 +15,6 @@
 #include "core/image_statistics.h"
 #include "gpu/vulkan_context.h"
 #include "methods/caustic_mapping/frame_data.h"
-#include "methods/caustic_mapping/tests/flat_mirror.h"
 #include "methods/frame_dump.h"
 #include "tests/test_support.h"
 

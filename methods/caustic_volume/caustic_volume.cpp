@@ -1,0 +1,181 @@
+// caustic_volume's lifecycle: the frame's volumes in update(), their footprints on the image, what they
+// lose; the per-pixel work is in caustic_volume_render.cpp, one volume in volume.h.
+#include "methods/caustic_volume/caustic_volume.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "core/parallel.h"
+
+namespace causticbench {
+
+using caustic_volume::Volume;
+
+void CausticVolumeMethod::check_scene(const Scene& scene) const {
+  if (!scene.has_specular_object()) {
+    throw InputError(fmt::format("{}: caustic_volume builds volumes on the specular objects' triangles, and the scene has none",
+                                 scene.source));
+  }
+}
+
+namespace {
+
+// The convex hull of `points`, counter-clockwise (Andrew's monotone chain).
+std::vector<glm::dvec2> convex_hull(std::vector<glm::dvec2> points) {
+  std::sort(points.begin(), points.end(), [](const glm::dvec2& a, const glm::dvec2& b) {
+    return a.x < b.x || (a.x == b.x && a.y < b.y);
+  });
+  auto turn = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
+    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+  };
+  std::vector<glm::dvec2> hull(2 * points.size());
+  size_t k = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    while (k >= 2 && turn(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+    hull[k++] = points[i];
+  }
+  for (size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && turn(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k > 1 ? k - 1 : k);
+  return hull;
+}
+
+CausticVolumeMethod::Footprint footprint_of(const Volume& volume, const CameraFrame& camera) {
+  CausticVolumeMethod::Footprint footprint;
+  std::vector<glm::dvec2> corners;
+  for (int i = 0; i < 3; ++i)
+    for (double t : {0.0, volume.t_max}) {
+      const std::optional<glm::dvec2> at = camera.image_position(Vec3(volume.origin[i] + t * volume.direction[i]));
+      if (!at || !std::isfinite(at->x) || !std::isfinite(at->y)) {
+        footprint.whole_image = true;
+        footprint.row_begin = 0;
+        footprint.row_end = camera.height();
+        return footprint;
+      }
+      corners.push_back(*at);
+    }
+  footprint.hull = convex_hull(corners);
+  double low = corners[0].y, high = corners[0].y;
+  for (const glm::dvec2& corner : corners) low = std::min(low, corner.y), high = std::max(high, corner.y);
+  // A pixel's point is tested when its centre lies within a pixel of the hull (the points lie on the
+  // primary rays through the centres; the pixel keeps rounding out of the decision).
+  footprint.row_begin = std::clamp(static_cast<int>(std::floor(low - 1.5)), 0, camera.height());
+  footprint.row_end = std::clamp(static_cast<int>(std::ceil(high + 1.5)), 0, camera.height());
+  return footprint;
+}
+
+}  // namespace
+
+void CausticVolumeMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
+  volumes_.clear();
+  footprints_.clear();
+  statistics_ = caustic_volume::BeamStatistics{};
+  skipped_lights_.clear();
+  tessellation_ = static_cast<int>(frame_knobs.integer("tessellation"));
+  const SceneFrame& scene = frame.frame;
+  camera_ = scene.camera;
+  const std::vector<int> objects = scene.specular_objects();
+  const bool automatic = frame_knobs.is_auto("max_distance");
+  const caustic_volume::ReceiverBox box = caustic_volume::receiver_box(scene);
+  t_max_used_ = 0.0;
+  for (const LightFrame& light : scene.lights) {
+    // An environment or a spot has no one direction per vertex here: not modelled, and said in the record.
+    if (light.kind != LightKind::directional && light.kind != LightKind::point) {
+      skipped_lights_.push_back(light.light->name);
+      continue;
+    }
+    for (int object : objects) {
+      const BoundingSphere& bounds = scene.bounds[static_cast<size_t>(object)];
+      // auto: every receiver of the scene lies within this distance of every point of the object, and
+      // each volume stops where all its rays have left the receivers' box (volume.h, box_cap).
+      const double t_max = automatic ? glm::length(glm::dvec3(bounds.center) - glm::dvec3(scene.scene_bounds.center)) +
+                                           scene.scene_bounds.radius + bounds.radius
+                                     : frame_knobs.real("max_distance");
+      const caustic_volume::SurfaceMesh mesh = caustic_volume::surface_mesh(scene, object, tessellation_);
+      caustic_volume::build_volumes(frame.tracer, light, mesh, object, scene.scene->objects[static_cast<size_t>(object)].material,
+                                    t_max, automatic && !box.empty ? &box : nullptr, volumes_, statistics_);
+    }
+  }
+  for (const Volume& volume : volumes_) t_max_used_ = std::max(t_max_used_, volume.t_max);
+  footprints_.resize(volumes_.size());
+  parallel_blocks(volumes_.size(), 256, [&](size_t begin, size_t end, size_t) {
+    for (size_t i = begin; i < end; ++i) footprints_[i] = footprint_of(volumes_[i], *camera_);
+  });
+}
+
+size_t CausticVolumeMethod::memory_bytes() const {
+  size_t bytes = volumes_.size() * (sizeof(Volume) + sizeof(Footprint));
+  for (const Footprint& footprint : footprints_) bytes += footprint.hull.size() * sizeof(glm::dvec2);
+  return bytes;
+}
+
+// A volume and its footprint take about 700 bytes; a sphere's tessellation makes segments^2 triangles,
+// the most of any shape (a ring's wall makes segments^2 / 4), per light and specular object.
+std::vector<MemoryTerm> CausticVolumeMethod::knob_memory(const PrepareContext& context, const ParamSet& knobs) const {
+  const double segments = static_cast<double>(knobs.integer("tessellation"));
+  size_t lights = 0;
+  for (const LightFrame& light : context.rest.lights) lights += light.kind == LightKind::directional || light.kind == LightKind::point;
+  const double passes = static_cast<double>(std::max<size_t>(1, lights * context.rest.specular_objects().size()));
+  const double volumes = segments * segments * passes;
+  return {MemoryTerm{{"tessellation"}, volumes * 700.0,
+                     fmt::format("up to {:.3g} volumes ({:g}^2 triangles x {:g} light-object pairs) x about 700 bytes",
+                                 volumes, segments, passes)}};
+}
+
+Counters CausticVolumeMethod::counters() const {
+  return {{"volumes", static_cast<double>(volumes_.size())},
+          {"volume_point_tests", static_cast<double>(point_tests_)},
+          {"volume_hits", static_cast<double>(sheets_)}};
+}
+
+nlohmann::json CausticVolumeMethod::record() const {
+  nlohmann::json record = {{"tessellation", tessellation_},
+                           {"triangles", statistics_.triangles},
+                           {"volumes", statistics_.lit},
+                           {"triangles_unlit", statistics_.unlit},
+                           {"volumes_dropped", statistics_.dropped},
+                           {"max_distance_largest", t_max_used_}};
+  if (!skipped_lights_.empty()) record["lights_not_modelled"] = skipped_lights_;
+  return record;
+}
+
+// The flux entering the lit triangles that no receiver gets: volumes dropped because a vertex ray could
+// not leave, and volumes whose light meets its first receiver beyond the far cap (one exact ray per
+// volume along its centroid's direction, untimed: the whole volume's flux counts with it).
+std::optional<LostFlux> CausticVolumeMethod::lost_flux(const FrameContext& frame, const GBuffer&, const ParamSet&) {
+  std::vector<double> beyond(volumes_.size(), 0.0);
+  const Scene& scene = *frame.frame.scene;
+  parallel_blocks(volumes_.size(), 256, [&](size_t begin, size_t end, size_t) {
+    for (size_t i = begin; i < end; ++i) {
+      const Volume& volume = volumes_[i];
+      const glm::dvec3 start = (volume.origin[0] + volume.origin[1] + volume.origin[2]) / 3.0;
+      Ray ray{Vec3(start + volume.mean_direction * double(frame.tracer.epsilon())), Vec3(volume.mean_direction)};
+      SurfaceHit hit;
+      // Volumes ignore what lies inside them (occlusion is not modelled): the first receiver along the ray.
+      for (int crossing = 0; crossing < 64 && frame.tracer.intersect(ray, hit); ++crossing) {
+        if (scene.objects[static_cast<size_t>(hit.object)].material.receives_caustics()) {
+          if (glm::length(glm::dvec3(hit.position) - start) > volume.t_max) beyond[i] = volume.flux;
+          break;
+        }
+        ray = frame.tracer.spawn(hit, ray.direction);
+      }
+    }
+  });
+  double flux_beyond = 0.0;
+  for (double value : beyond) flux_beyond += value;
+  LostFlux lost;
+  lost.what = "flux entering the lit specular triangles that no receiver gets: volumes whose vertex rays cannot "
+              "leave (refraction impossible at a vertex), and light meeting its first receiver beyond the far cap";
+  lost.knob = "max_distance";
+  lost.advice = "set max_distance: auto, which reaches the far side of the scene";
+  const double total = statistics_.flux_lit + statistics_.flux_dropped;
+  lost.fraction = total > 0.0 ? std::clamp((statistics_.flux_dropped + flux_beyond) / total, 0.0, 1.0) : 0.0;
+  return lost;
+}
+
+}  // namespace causticbench
