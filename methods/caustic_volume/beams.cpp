@@ -17,8 +17,10 @@ void BeamStatistics::add(const BeamStatistics& other) {
   lit += other.lit;
   unlit += other.unlit;
   dropped += other.dropped;
+  torn += other.torn;
   flux_lit += other.flux_lit;
   flux_dropped += other.flux_dropped;
+  flux_torn += other.flux_torn;
 }
 
 SurfaceMesh surface_mesh(const SceneFrame& frame, int object, int segments) {
@@ -65,10 +67,45 @@ namespace {
 struct VertexRay {
   glm::dvec3 light{0.0};       // the direction light travels there (unit)
   Color strength{0.0f};        // irradiance across the light there, W/m^2
+  glm::dvec3 origin{0.0};      // where it leaves: the vertex, or where it leaves the solid
   glm::dvec3 direction{0.0};   // outgoing, unit
-  Color factor{0.0f};          // reflectance or Fresnel transmittance
+  Color factor{0.0f};          // reflectance or Fresnel transmittance (and absorption inside a solid)
   bool leaves = false;
+  bool in_medium = false;      // refracted once: the receivers lie in the medium (its absorption applies)
+  int bounces = -1;            // through a solid: total internal reflections before it left
 };
+
+// A refracted vertex ray through a solid glass object to where it leaves, total internal reflections
+// followed up to kMaxInternal: whether it meets its object again at all (auto's test for a solid), and
+// whether it left.
+constexpr int kMaxInternal = 4;
+enum class Through { not_a_solid, left, trapped };
+
+Through leave_solid(const Tracer& tracer, int object, const glm::dvec3& entry, const glm::dvec3& inward,
+                    const glm::dvec3& direction, const Material& material, VertexRay& ray) {
+  Ray current{Vec3(entry + inward * double(tracer.epsilon())), Vec3(direction)};
+  double inside = 0.0;
+  for (int bounce = 0; bounce <= kMaxInternal; ++bounce) {
+    SurfaceHit hit;
+    if (!tracer.intersect(current, hit) || hit.object != object)
+      return bounce == 0 ? Through::not_a_solid : Through::trapped;  // another object inside: not followed
+    inside += glm::length(glm::dvec3(hit.position) - glm::dvec3(current.origin));
+    const Vec3 d = current.direction, outward = hit.shading_normal;
+    const Vec3 facing = glm::dot(d, outward) < 0.0f ? outward : -outward;  // against the ray
+    const float cos_inside = std::max(0.0f, -glm::dot(d, facing));
+    const float eta = glm::dot(d, outward) > 0.0f ? 1.0f / material.ior : material.ior;
+    Vec3 out;
+    if (refract(d, facing, eta, out)) {
+      ray.origin = glm::dvec3(hit.position);
+      ray.direction = glm::normalize(glm::dvec3(out));
+      ray.factor *= (1.0f - fresnel_dielectric(cos_inside, eta)) * glm::exp(-material.absorption * static_cast<float>(inside));
+      ray.bounces = bounce;
+      return Through::left;
+    }
+    current = tracer.spawn(hit, reflect(d, facing));  // total internal reflection
+  }
+  return Through::trapped;
+}
 
 glm::dvec3 light_travel(const LightFrame& light, const glm::dvec3& point) {
   if (light.kind == LightKind::directional) return -glm::dvec3(light.direction_to_light);
@@ -83,11 +120,12 @@ Color light_strength(const LightFrame& light, const glm::dvec3& point) {
 
 // The vertex ray at `point` with shading normal `normal` turned to the lit side `side` (+1: the side its
 // normal faces).
-VertexRay vertex_ray(const LightFrame& light, const glm::dvec3& point, const glm::dvec3& normal, double side,
-                     const Material& material) {
+VertexRay vertex_ray(const Tracer& tracer, int object, const LightFrame& light, const glm::dvec3& point,
+                     const glm::dvec3& normal, double side, const Material& material, Refraction refraction) {
   VertexRay ray;
   ray.light = light_travel(light, point);
   ray.strength = light_strength(light, point);
+  ray.origin = point;
   const glm::dvec3 facing = side * normal;  // towards the light
   const float cos_incident = static_cast<float>(std::max(0.0, -glm::dot(ray.light, facing)));
   const Vec3 travel(ray.light), n(facing);
@@ -97,13 +135,26 @@ VertexRay vertex_ray(const LightFrame& light, const glm::dvec3& point, const glm
     ray.leaves = true;
     return ray;
   }
-  // One interface: into the glass from the outside (the side its normal faces), or out of it.
+  // Into the glass from the outside (the side its normal faces), or out of it.
   const float eta = side > 0.0 ? material.ior : 1.0f / material.ior;
   Vec3 transmitted;
   if (!refract(travel, n, eta, transmitted)) return ray;
   ray.factor = Color(1.0f - fresnel_dielectric(cos_incident, eta));
   ray.direction = glm::normalize(glm::dvec3(transmitted));
+  if (refraction != Refraction::one_interface) {
+    VertexRay through = ray;
+    switch (leave_solid(tracer, object, point, -facing, ray.direction, material, through)) {
+      case Through::left:
+        through.leaves = true;
+        return through;
+      case Through::trapped: return ray;  // leaves: false
+      case Through::not_a_solid:
+        if (refraction == Refraction::through_object) return ray;  // nothing to go through: not modelled
+        break;  // auto: a surface, the receivers lie in its medium
+    }
+  }
   ray.leaves = true;
+  ray.in_medium = true;
   return ray;
 }
 
@@ -150,8 +201,8 @@ double box_cap(const ReceiverBox& box, const std::array<glm::dvec3, 3>& origin, 
 }
 
 void build_volumes(const Tracer& tracer, const LightFrame& light, const SurfaceMesh& mesh, int object,
-                   const Material& material, double t_max, const ReceiverBox* box, std::vector<Volume>& volumes,
-                   BeamStatistics& statistics) {
+                   const Material& material, Refraction refraction, double t_max, const ReceiverBox* box,
+                   std::vector<Volume>& volumes, BeamStatistics& statistics) {
   const size_t triangle_count = mesh.triangles.size();
   statistics.triangles += triangle_count;
   // Which vertices see the light, from either side of the surface (+1: the side the normal faces): the
@@ -228,7 +279,7 @@ void build_volumes(const Tracer& tracer, const LightFrame& light, const SurfaceM
         const glm::dvec3 p0 = mesh.positions[triangle.x];
         normal = glm::normalize(glm::cross(mesh.positions[triangle.y] - p0, mesh.positions[triangle.z] - p0));
       }
-      rays[s][vertex] = vertex_ray(light, mesh.positions[vertex], normal, side[index], material);
+      rays[s][vertex] = vertex_ray(tracer, object, light, mesh.positions[vertex], normal, side[index], material, refraction);
       has_ray[s][vertex] = 1;
     }
   }
@@ -264,13 +315,23 @@ void build_volumes(const Tracer& tracer, const LightFrame& light, const SurfaceM
       side[index] = 0.0;
       continue;
     }
+    // Through a solid the three rays must leave alike: the same number of internal reflections, all
+    // through the solid or none. Otherwise the beam tore (across a total internal reflection's edge, or
+    // between faces): dropped and counted.
+    if (r[0]->bounces != r[1]->bounces || r[0]->bounces != r[2]->bounces || r[0]->in_medium != r[1]->in_medium ||
+        r[0]->in_medium != r[2]->in_medium) {
+      ++statistics.torn;
+      statistics.flux_torn += flux;
+      side[index] = 0.0;
+      continue;
+    }
     Volume volume;
     volume.object = object;
     volume.side = s == 0 ? 1 : -1;
     volume.self_gap = 0.5 * std::sqrt(std::max({glm::dot(a1, a1), glm::dot(a2, a2), glm::dot(a2 - a1, a2 - a1)}));
     volume.t_max = t_max;
     if (box) {
-      const std::array<glm::dvec3, 3> origins = {mesh.positions[v[0]], mesh.positions[v[1]], mesh.positions[v[2]]};
+      const std::array<glm::dvec3, 3> origins = {r[0]->origin, r[1]->origin, r[2]->origin};
       const std::array<glm::dvec3, 3> directions = {r[0]->direction, r[1]->direction, r[2]->direction};
       volume.t_max = std::min(t_max, box_cap(*box, origins, directions));
     }
@@ -280,13 +341,13 @@ void build_volumes(const Tracer& tracer, const LightFrame& light, const SurfaceM
                             (1.0f / 3.0f)) * area_in;
     glm::dvec3 mean(0.0);
     for (int i = 0; i < 3; ++i) {
-      volume.origin[i] = mesh.positions[v[i]];
+      volume.origin[i] = r[i]->origin;
       volume.direction[i] = r[i]->direction;
       volume.arriving[i] = r[i]->strength * r[i]->factor * lit[i];
       mean += r[i]->direction;
     }
     volume.mean_direction = glm::normalize(mean);
-    if (material.kind == MaterialKind::glass) volume.absorption = material.absorption;
+    if (r[0]->in_medium) volume.absorption = material.absorption;
     finish_volume(volume);
     // This triangle's share of its vertices' one-rings.
     const glm::dvec3 winding = glm::cross(a1, a2);

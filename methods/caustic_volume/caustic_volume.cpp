@@ -77,6 +77,11 @@ void CausticVolumeMethod::update(const FrameContext& frame, const ParamSet& fram
   statistics_ = caustic_volume::BeamStatistics{};
   skipped_lights_.clear();
   tessellation_ = static_cast<int>(frame_knobs.integer("tessellation"));
+  const std::string& refraction_name = frame_knobs.has("refraction") ? frame_knobs.text("refraction") : "auto";
+  const caustic_volume::Refraction refraction = refraction_name == "one_interface"    ? caustic_volume::Refraction::one_interface
+                                                : refraction_name == "through_object" ? caustic_volume::Refraction::through_object
+                                                                                      : caustic_volume::Refraction::automatic;
+  tracer_ = &frame.tracer;
   const SceneFrame& scene = frame.frame;
   camera_ = scene.camera;
   const std::vector<int> objects = scene.specular_objects();
@@ -98,7 +103,7 @@ void CausticVolumeMethod::update(const FrameContext& frame, const ParamSet& fram
                                      : frame_knobs.real("max_distance");
       const caustic_volume::SurfaceMesh mesh = caustic_volume::surface_mesh(scene, object, tessellation_);
       caustic_volume::build_volumes(frame.tracer, light, mesh, object, scene.scene->objects[static_cast<size_t>(object)].material,
-                                    t_max, automatic && !box.empty ? &box : nullptr, volumes_, statistics_);
+                                    refraction, t_max, automatic && !box.empty ? &box : nullptr, volumes_, statistics_);
     }
   }
   for (const Volume& volume : volumes_) t_max_used_ = std::max(t_max_used_, volume.t_max);
@@ -130,7 +135,8 @@ std::vector<MemoryTerm> CausticVolumeMethod::knob_memory(const PrepareContext& c
 Counters CausticVolumeMethod::counters() const {
   return {{"volumes", static_cast<double>(volumes_.size())},
           {"volume_point_tests", static_cast<double>(point_tests_)},
-          {"volume_hits", static_cast<double>(sheets_)}};
+          {"volume_hits", static_cast<double>(sheets_)},
+          {"shadow_rays", static_cast<double>(shadow_rays_)}};
 }
 
 nlohmann::json CausticVolumeMethod::record() const {
@@ -139,6 +145,7 @@ nlohmann::json CausticVolumeMethod::record() const {
                            {"volumes", statistics_.lit},
                            {"triangles_unlit", statistics_.unlit},
                            {"volumes_dropped", statistics_.dropped},
+                           {"volumes_torn", statistics_.torn},
                            {"max_distance_largest", t_max_used_}};
   if (!skipped_lights_.empty()) record["lights_not_modelled"] = skipped_lights_;
   return record;
@@ -170,11 +177,18 @@ std::optional<LostFlux> CausticVolumeMethod::lost_flux(const FrameContext& frame
   for (double value : beyond) flux_beyond += value;
   LostFlux lost;
   lost.what = "flux entering the lit specular triangles that no receiver gets: volumes whose vertex rays cannot "
-              "leave (refraction impossible at a vertex), and light meeting its first receiver beyond the far cap";
-  lost.knob = "max_distance";
-  lost.advice = "set max_distance: auto, which reaches the far side of the scene";
-  const double total = statistics_.flux_lit + statistics_.flux_dropped;
-  lost.fraction = total > 0.0 ? std::clamp((statistics_.flux_dropped + flux_beyond) / total, 0.0, 1.0) : 0.0;
+              "leave (refraction impossible at a vertex, trapped inside a solid), volumes torn through a solid (their "
+              "rays left after different internal reflections), and light meeting its first receiver beyond the far cap";
+  const double torn_and_dropped = statistics_.flux_dropped + statistics_.flux_torn;
+  if (flux_beyond >= torn_and_dropped) {
+    lost.knob = "max_distance";
+    lost.advice = "set max_distance: auto, which reaches the far side of the receivers";
+  } else {
+    lost.knob = "tessellation";
+    lost.advice = "raise tessellation: finer volumes tear along a narrower band where a solid's rays part";
+  }
+  const double total = statistics_.flux_lit + torn_and_dropped;
+  lost.fraction = total > 0.0 ? std::clamp((torn_and_dropped + flux_beyond) / total, 0.0, 1.0) : 0.0;
   return lost;
 }
 

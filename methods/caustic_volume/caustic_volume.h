@@ -48,9 +48,10 @@ class CausticVolumeMethod : public CausticMethod {
   caustic_volume::BeamStatistics statistics_;
   std::vector<std::string> skipped_lights_;
   std::optional<CameraFrame> camera_;
+  const Tracer* tracer_ = nullptr;  // the frame's, from update(): occlusion: shadow_rays' scene
   double t_max_used_ = 0.0;
   int tessellation_ = 0;
-  uint64_t point_tests_ = 0, sheets_ = 0;  // of the last render
+  uint64_t point_tests_ = 0, sheets_ = 0, shadow_rays_ = 0;  // of the last render
 };
 
 }  // namespace causticbench

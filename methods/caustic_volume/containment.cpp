@@ -135,16 +135,30 @@ Color beam_irradiance(const Volume& volume, const Sheet& sheet, Intensity intens
     const double area_out = 0.5 * std::abs(glm::dot(section, volume.mean_direction));
     return entering * static_cast<float>(volume.area_in / std::max(area_out, 1e-4 * volume.area_in));
   }
-  // Each vertex's wavefront density at t (its one-ring's area entering over its cross-section at t),
-  // interpolated: continuous across the edges the vertices share.
-  Color beam(0.0f);
+  // Each vertex's ray tube (its one-ring: the area it entered across the light, its cross-section at t
+  // across its ray, a quadratic in t), the tubes' flux and areas interpolated, the one over the other:
+  // continuous across the edges the vertices share. (Interpolating the densities themselves would
+  // overstate the light where neighbouring tubes differ by orders of magnitude, as behind a solid's
+  // silhouette: the mean of 1 / area exceeds 1 / the mean area.)
+  Color flux(0.0f);
+  double area_out = 0.0, area_in = 0.0;
   for (int i = 0; i < 3; ++i) {
     const auto& q = volume.ring_area_out[i];
-    const double area_out = std::abs(q[0] + t * (q[1] + t * q[2]));
-    const double ratio = volume.ring_area_in[i] / std::max(area_out, 1e-4 * volume.ring_area_in[i]);
-    beam += volume.arriving[i] * static_cast<float>(sheet.weights[i] * ratio);
+    flux += volume.arriving[i] * static_cast<float>(sheet.weights[i] * volume.ring_area_in[i]);
+    area_in += sheet.weights[i] * volume.ring_area_in[i];
+    area_out += sheet.weights[i] * std::abs(q[0] + t * (q[1] + t * q[2]));
   }
-  return beam;
+  return flux * static_cast<float>(1.0 / std::max(area_out, 1e-4 * area_in));
+}
+
+Color sheet_irradiance(const Volume& volume, const Sheet& sheet, const glm::dvec3& x, const glm::dvec3& n,
+                       Intensity intensity) {
+  const auto& w = sheet.weights;
+  const glm::dvec3 direction =
+      glm::normalize(w[0] * volume.direction[0] + w[1] * volume.direction[1] + w[2] * volume.direction[2]);
+  const glm::dvec3 start = w[0] * volume.origin[0] + w[1] * volume.origin[1] + w[2] * volume.origin[2];
+  const Color through = glm::exp(-volume.absorption * static_cast<float>(glm::length(x - start)));
+  return beam_irradiance(volume, sheet, intensity) * through * static_cast<float>(std::abs(glm::dot(n, direction)));
 }
 
 Color volume_irradiance(const Volume& volume, const glm::dvec3& x, const glm::dvec3& n, Intensity intensity,
@@ -152,14 +166,7 @@ Color volume_irradiance(const Volume& volume, const glm::dvec3& x, const glm::dv
   Color sum(0.0f);
   Sheet sheets[3];
   const int count = sheets_through(volume, x, sheets, t_min);
-  for (int s = 0; s < count; ++s) {
-    const auto& w = sheets[s].weights;
-    const glm::dvec3 direction =
-        glm::normalize(w[0] * volume.direction[0] + w[1] * volume.direction[1] + w[2] * volume.direction[2]);
-    const glm::dvec3 start = w[0] * volume.origin[0] + w[1] * volume.origin[1] + w[2] * volume.origin[2];
-    const Color through = glm::exp(-volume.absorption * static_cast<float>(glm::length(x - start)));
-    sum += beam_irradiance(volume, sheets[s], intensity) * through * static_cast<float>(std::abs(glm::dot(n, direction)));
-  }
+  for (int s = 0; s < count; ++s) sum += sheet_irradiance(volume, sheets[s], x, n, intensity);
   return sum;
 }
 

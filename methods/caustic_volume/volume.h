@@ -18,6 +18,9 @@
 namespace causticbench::caustic_volume {
 
 enum class Intensity { constant, interpolated };
+// Glass: one interface (the receivers lie in the medium: a water surface), through the object to where
+// each ray leaves it (a solid), or auto: through where the refracted ray meets its object again.
+enum class Refraction { automatic, one_interface, through_object };
 
 // One caustic volume: X(b, t) = sum_i b_i (P_i + t D_i), b in the triangle, 0 <= t <= t_max.
 struct Volume {
@@ -56,9 +59,11 @@ struct BeamStatistics {
   uint64_t triangles = 0;  // of the object's mesh
   uint64_t lit = 0;        // volumes built
   uint64_t unlit = 0;      // facing away, or shadowed at their centroid
-  uint64_t dropped = 0;    // a vertex ray could not leave (refraction impossible at a vertex)
+  uint64_t dropped = 0;    // a vertex ray could not leave (refraction impossible, trapped inside a solid)
+  uint64_t torn = 0;       // through a solid: its rays left with different internal reflections
   double flux_lit = 0.0;      // luminance of the flux entering the volumes built, W
   double flux_dropped = 0.0;  // entering the dropped ones
+  double flux_torn = 0.0;     // entering the torn ones
   void add(const BeamStatistics& other);
 };
 
@@ -86,12 +91,13 @@ double box_cap(const ReceiverBox& box, const std::array<glm::dvec3, 3>& origin, 
 
 // Every volume of `mesh` (object `object`) under `light`: the triangles the light reaches (facing it,
 // with a vertex that sees the light; a shadowed vertex brings none), their vertex rays reflected
-// (mirrors) or refracted once (glass: the receivers lie in the medium), the intensities of both modes.
-// The far cap: `t_max`, or with `box` the smaller of t_max and the box's cap (a volume that never meets
-// the box is not built). Appends to `volumes`.
+// (mirrors) or refracted (glass, by `refraction`: once into the medium, or through the solid to where
+// each ray leaves it, its total internal reflections followed), the intensities of both modes. Through
+// a solid the volume starts where its rays leave; its densities still count the area the light entered.
+// The far cap: `t_max`, or with `box` the smaller of t_max and the box's cap. Appends to `volumes`.
 void build_volumes(const Tracer& tracer, const LightFrame& light, const SurfaceMesh& mesh, int object,
-                   const Material& material, double t_max, const ReceiverBox* box, std::vector<Volume>& volumes,
-                   BeamStatistics& statistics);
+                   const Material& material, Refraction refraction, double t_max, const ReceiverBox* box,
+                   std::vector<Volume>& volumes, BeamStatistics& statistics);
 
 // Fills the cubic's coefficients and the bounds (after build_volumes sets the rays).
 void finish_volume(Volume& volume);
@@ -113,6 +119,11 @@ int sheets_through(const Volume& volume, const glm::dvec3& x, Sheet sheets[3], d
 // The irradiance across the beam on one sheet (W/m^2 across its interpolated direction), before the
 // receiver's cosine and the medium's absorption.
 Color beam_irradiance(const Volume& volume, const Sheet& sheet, Intensity intensity);
+
+// What one sheet gives the receiver point x of unit normal n: the beam's irradiance times |n . D(w)| times
+// the medium's transmittance from where the light left the surface.
+Color sheet_irradiance(const Volume& volume, const Sheet& sheet, const glm::dvec3& x, const glm::dvec3& n,
+                       Intensity intensity);
 
 // E_c that `volume` gives a receiver point x of unit normal n: every sheet through x beyond t_min adds its
 // light.

@@ -181,7 +181,8 @@ struct RingVolumes {
   cv::BeamStatistics statistics;
   explicit RingVolumes(int segments) {
     const cv::ReceiverBox box = cv::receiver_box(frame);
-    cv::build_volumes(tracer, frame.lights[0], cv::surface_mesh(frame, 1, segments), 1, scene.objects[1].material, 100.0,
+    cv::build_volumes(tracer, frame.lights[0], cv::surface_mesh(frame, 1, segments), 1, scene.objects[1].material,
+                      cv::Refraction::automatic, 100.0,
                       &box, volumes, statistics);
   }
 };
@@ -258,11 +259,15 @@ TEST(CausticVolume, InterpolatedIntensityIsContinuousAcrossSharedEdges) {
 
 // Energy on a diverging beam: the ring's outer wall, convex, spreads its reflected light over the table
 // without folds. The table's integral of each volume's E_c (a fine grid over the volume's bounds, 400
-// points per unit length) is the flux entering the volumes, with either intensity, to the tolerance the
-// measurement below states. (Where a concave surface focuses, pixels sample a caustic's singular edges
-// and their sum is only as good as the sampling: the ring's inner cardioid at 128^2 to 1024^2 pixels
-// sums to 0.96 to 1.04 of its flux; that is the image's error, not the volumes'.)
+// points per unit length) is the flux entering the volumes: with constant intensity to 1 % at 32 and 64
+// around (a prism's is exact; a warped volume's cross-section is measured across its mean direction);
+// with interpolated intensity to 2 % at 64, converging (the error halves or better from 32 to 64: the
+// interpolated tubes' areas are exact at the vertices only). Measured below. (Where a concave surface
+// focuses, pixels sample a caustic's singular edges and their sum is only as good as the sampling: the
+// ring's inner cardioid at 128^2 to 1024^2 pixels sums to 0.96 to 1.04 of its flux; that is the image's
+// error, not the volumes'.)
 TEST(CausticVolume, EnergyOfADivergingBeamIsTheVolumesFlux) {
+  double interpolated_error_at_32 = 0.0;
   for (int segments : {32, 64}) {
     const RingVolumes ring(segments);
     for (cv::Intensity intensity : {cv::Intensity::interpolated, cv::Intensity::constant}) {
@@ -280,7 +285,14 @@ TEST(CausticVolume, EnergyOfADivergingBeamIsTheVolumesFlux) {
       const char* name = intensity == cv::Intensity::interpolated ? "interpolated" : "constant";
       std::printf("tessellation %d %s: outer wall's volumes %.5f entering, %.5f on the table, ratio %.5f\n", segments, name,
                   entering, landed, landed / entering);
-      EXPECT_NEAR(landed / entering, 1.0, 0.01) << segments << " " << name;
+      if (intensity == cv::Intensity::constant) {
+        EXPECT_NEAR(landed / entering, 1.0, 0.01) << segments << " " << name;
+      } else if (segments == 64) {
+        EXPECT_NEAR(landed / entering, 1.0, 0.02) << segments << " " << name;
+        EXPECT_LT(std::abs(landed / entering - 1.0), 0.5 * interpolated_error_at_32) << "converging";
+      } else {
+        interpolated_error_at_32 = std::abs(landed / entering - 1.0);
+      }
     }
   }
 }
@@ -308,4 +320,67 @@ TEST(CausticVolume, RingConvergesToTheReferenceAsTheTessellationIsRefined) {
       }
     }
   }
+}
+
+namespace {
+
+// A scene file of the capability study, at `resolution` squared.
+Scene capability_scene(const std::string& name, int resolution) {
+  std::string text = causticbench::testing::read_whole_file(std::string(CAUSTICBENCH_SCENES) + "/capabilities/" + name + ".yaml");
+  text = causticbench::testing::replace_once(text, "resolution: [32, 32]",
+                                             "resolution: [" + std::to_string(resolution) + ", " + std::to_string(resolution) + "]");
+  return scene_from_yaml(text);
+}
+
+double relmse_against(const FrameResult& result, const FrameResult& reference) {
+  return relative_mse(result.caustic, reference.caustic, reference.gbuffer.receiver);
+}
+
+}  // namespace
+
+// occlusion: shadow_rays. The capability case's wall stands in the mirror sphere's reflected fan: without
+// shadow rays the volumes light the floor in the wall's shadow (relMSE above 10 at 48^2); with them the
+// error drops below the capability bound (0.25) and the energy to within 15 % of the reference's.
+// Measured below; one shadow ray a point and sheet.
+TEST(CausticVolume, ShadowRaysKeepTheLightOutOfAnOccludersShadow) {
+  const Scene scene = capability_scene("occlusion", 48);
+  const FrameResult reference = render(scene, "reference", causticbench::testing::kSmallSceneReferenceKnobs);
+  const FrameResult open = render(scene, "caustic_volume", {"tessellation=128"});
+  const FrameResult shadowed = render(scene, "caustic_volume", {"tessellation=128", "occlusion=shadow_rays"});
+  auto energy = [&](const FrameResult& result) {
+    return masked_sum(result.caustic, reference.gbuffer.receiver) / masked_sum(reference.caustic, reference.gbuffer.receiver);
+  };
+  double rays = 0.0;
+  for (const auto& [name, value] : shadowed.counters) rays = name == "shadow_rays" ? value : rays;
+  std::printf("without shadow rays: relMSE %.3f, energy %.3f; with: relMSE %.4f, energy %.4f (%.0f rays)\n",
+              relmse_against(open, reference), energy(open), relmse_against(shadowed, reference), energy(shadowed), rays);
+  EXPECT_GT(relmse_against(open, reference), 10.0);
+  EXPECT_LT(relmse_against(shadowed, reference), 0.25);
+  EXPECT_NEAR(energy(shadowed), 1.0, 0.15);
+  EXPECT_GT(rays, 0.0);
+}
+
+// refraction: through_object on the glass sphere (kSmallGlassSphere): each vertex ray followed through the
+// ball to where it leaves. Against the reference, the energy in view is the reference's less what the
+// method does not follow (glass's Fresnel reflection off the ball, and light leaving after more internal
+// reflections than the volumes keep, counted as torn), within the tolerance measured below; refracting
+// once, as if the floor lay inside the glass, is far off. auto picks through_object for the ball.
+TEST(CausticVolume, ThroughTheGlassSphereAgainstTheReference) {
+  const Scene scene = scene_from_yaml(causticbench::testing::kSmallGlassSphere);
+  const FrameResult reference = render(scene, "reference", causticbench::testing::kSmallSceneReferenceKnobs);
+  auto energy = [&](const FrameResult& result) {
+    return masked_sum(result.caustic, reference.gbuffer.receiver) / masked_sum(reference.caustic, reference.gbuffer.receiver);
+  };
+  const FrameResult through = render(scene, "caustic_volume", {"refraction=through_object"});
+  const FrameResult automatic = render(scene, "caustic_volume", {});
+  const FrameResult once = render(scene, "caustic_volume", {"refraction=one_interface"});
+  std::printf("through_object: energy %.3f, relMSE %.3f, FLIP %.3f, torn %s, lost %.3f; one_interface: energy %.3f, FLIP %.3f\n",
+              energy(through), relmse_against(through, reference),
+              caustic_flip(through.caustic, reference.caustic, reference.gbuffer.receiver).mean,
+              through.method_record["volumes_torn"].dump().c_str(), through.lost_flux->fraction, energy(once),
+              caustic_flip(once.caustic, reference.caustic, reference.gbuffer.receiver).mean);
+  EXPECT_NEAR(energy(through), 0.93, 0.04);
+  EXPECT_LT(caustic_flip(through.caustic, reference.caustic, reference.gbuffer.receiver).mean,
+            0.7 * caustic_flip(once.caustic, reference.caustic, reference.gbuffer.receiver).mean);
+  EXPECT_EQ(relative_mse(automatic.caustic, through.caustic, reference.gbuffer.receiver), 0.0);
 }
