@@ -134,7 +134,7 @@ std::optional<LostFlux> CausticMappingMethod::lost_flux(const FrameContext& fram
       for (size_t i = begin; i < end; ++i) {
         SurfaceHit hit;
         const caustic_mapping::PhotonRay& photon = pass.leaving[pass.dropped[i]];
-        if (caustic_mapping::first_receiver(
+        if (first_receiver(
                 frame.tracer, Ray{photon.origin + photon.direction * frame.tracer.epsilon(), photon.direction}, hit,
                 pass.object))
           arriving[i] = luminance(photon.flux * glm::exp(-photon.absorption * glm::length(hit.position - photon.origin)));

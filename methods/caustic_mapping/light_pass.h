@@ -10,6 +10,7 @@
 #include "core/light.h"
 #include "core/tracer.h"
 #include "methods/common/light_view.h"
+#include "methods/common/receivers.h"
 #include "methods/param_dict.h"
 
 namespace causticbench::caustic_mapping {
@@ -100,11 +101,6 @@ struct LightPass {
   std::vector<uint32_t> dropped;     // indices into `leaving` of the photons the receiver search dropped
   double photon_window_half_extent = 0.0;  // the photon buffer's window (scene units, or tan of the half-angle)
 };
-
-// The first surface along `ray` that receives caustics and is not `skip` (the pass's own object):
-// mirrors and glass are looked through, as the receiver map renders the scene without them (a diffuse
-// mirror other than the pass's object receives); false when there is none.
-bool first_receiver(const Tracer& tracer, Ray ray, SurfaceHit& hit, int skip = -1);
 
 // The light-view half of a pass, the same for both backends: the light views, the photon buffer, each
 // photon's way out of the object (pass.leaving, with the statistics of what left), the receiver map.

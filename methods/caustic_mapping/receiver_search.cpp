@@ -9,17 +9,6 @@
 
 namespace causticbench::caustic_mapping {
 
-bool first_receiver(const Tracer& tracer, Ray ray, SurfaceHit& hit, int skip) {
-  const Scene& scene = *tracer.frame().scene;
-  // A ray can cross a specular object at most a few times (in and out of each); 64 covers any scene.
-  for (int crossing = 0; crossing < 64; ++crossing) {
-    if (!tracer.intersect(ray, hit)) return false;
-    if (hit.object != skip && scene.objects[hit.object].material.receives_caustics()) return true;
-    ray = tracer.spawn(hit, ray.direction);
-  }
-  return false;
-}
-
 long ReceiverMap::texel(double s, double t) const {
   if (!(s >= 0.0 && s < 1.0 && t >= 0.0 && t < 1.0)) return -1;
   const long x = std::min(resolution - 1, static_cast<int>(s * resolution));

@@ -9,6 +9,7 @@
 
 #include "core/errors.h"
 #include "core/parallel.h"
+#include "methods/common/receivers.h"
 
 namespace causticbench {
 
@@ -156,21 +157,17 @@ nlohmann::json CausticVolumeMethod::record() const {
 // volume along its centroid's direction, untimed: the whole volume's flux counts with it).
 std::optional<LostFlux> CausticVolumeMethod::lost_flux(const FrameContext& frame, const GBuffer&, const ParamSet&) {
   std::vector<double> beyond(volumes_.size(), 0.0);
-  const Scene& scene = *frame.frame.scene;
   parallel_blocks(volumes_.size(), 256, [&](size_t begin, size_t end, size_t) {
     for (size_t i = begin; i < end; ++i) {
       const Volume& volume = volumes_[i];
       const glm::dvec3 start = (volume.origin[0] + volume.origin[1] + volume.origin[2]) / 3.0;
-      Ray ray{Vec3(start + volume.mean_direction * double(frame.tracer.epsilon())), Vec3(volume.mean_direction)};
-      SurfaceHit hit;
       // Volumes ignore what lies inside them (occlusion is not modelled): the first receiver along the ray.
-      for (int crossing = 0; crossing < 64 && frame.tracer.intersect(ray, hit); ++crossing) {
-        if (scene.objects[static_cast<size_t>(hit.object)].material.receives_caustics()) {
-          if (glm::length(glm::dvec3(hit.position) - start) > volume.t_max) beyond[i] = volume.flux;
-          break;
-        }
-        ray = frame.tracer.spawn(hit, ray.direction);
-      }
+      SurfaceHit hit;
+      if (first_receiver(frame.tracer, Ray{Vec3(start + volume.mean_direction * double(frame.tracer.epsilon())),
+                                           Vec3(volume.mean_direction)},
+                         hit) &&
+          glm::length(glm::dvec3(hit.position) - start) > volume.t_max)
+        beyond[i] = volume.flux;
     }
   });
   double flux_beyond = 0.0;
