@@ -205,19 +205,42 @@ void build_volumes(const Tracer& tracer, const LightFrame& light, const SurfaceM
                    std::vector<Volume>& volumes, BeamStatistics& statistics) {
   const size_t triangle_count = mesh.triangles.size();
   statistics.triangles += triangle_count;
-  // Which vertices see the light, from either side of the surface (+1: the side the normal faces): the
-  // vertices lie on the exact surface, where a tessellated triangle's centroid lies inside a curved one
-  // by up to its sagitta, more than the tracer's offset, and would be shadowed by its own shape.
-  std::vector<uint8_t> sees[2];
-  for (int s = 0; s < 2; ++s) sees[s].assign(mesh.positions.size(), 0);
+  // Per triangle, the side the light arrives on (+1: the side its winding faces, which the mesh's normals
+  // agree with; 0: edge-on), from its centroid's facing.
+  std::vector<double> facing_side(triangle_count, 0.0);
+  for (size_t index = 0; index < triangle_count; ++index) {
+    const glm::uvec3& triangle = mesh.triangles[index];
+    const glm::dvec3 p0 = mesh.positions[triangle.x], p1 = mesh.positions[triangle.y], p2 = mesh.positions[triangle.z];
+    const double facing = glm::dot(glm::cross(p1 - p0, p2 - p0), light_travel(light, (p0 + p1 + p2) / 3.0));
+    facing_side[index] = facing < 0.0 ? 1.0 : facing > 0.0 ? -1.0 : 0.0;
+  }
+  // The side of its normal a corner of triangle `index` is lit on (0: the side the normal faces, 1 the
+  // other), and the triangle's winding.
+  auto corner_side = [&](size_t index, uint32_t vertex) {
+    const glm::uvec3& triangle = mesh.triangles[index];
+    const glm::dvec3 p0 = mesh.positions[triangle.x];
+    const glm::dvec3 winding = glm::cross(mesh.positions[triangle.y] - p0, mesh.positions[triangle.z] - p0);
+    return glm::dot(mesh.normals[vertex], winding) * facing_side[index] > 0.0 ? 0 : 1;
+  };
+  // Which vertices see the light, on the sides some triangle facing the light needs (one shadow ray each):
+  // the vertices lie on the exact surface, where a tessellated triangle's centroid lies inside a curved
+  // one by up to its sagitta, more than the tracer's offset, and would be shadowed by its own shape.
+  std::vector<uint8_t> sees[2], needed[2];
+  for (int s = 0; s < 2; ++s) sees[s].assign(mesh.positions.size(), 0), needed[s].assign(mesh.positions.size(), 0);
+  for (size_t index = 0; index < triangle_count; ++index) {
+    if (facing_side[index] == 0.0) continue;
+    for (int corner = 0; corner < 3; ++corner) {
+      const uint32_t vertex = mesh.triangles[index][corner];
+      if (glm::dot(mesh.normals[vertex], mesh.normals[vertex]) != 0.0) needed[corner_side(index, vertex)][vertex] = 1;
+    }
+  }
   parallel_blocks(mesh.positions.size(), 256, [&](size_t begin, size_t end, size_t) {
     for (size_t vertex = begin; vertex < end; ++vertex) {
       const glm::dvec3 point = mesh.positions[vertex];
-      glm::dvec3 normal = mesh.normals[vertex];
-      if (glm::dot(normal, normal) == 0.0) continue;  // flat meshes: per triangle below
       const glm::dvec3 travel = light_travel(light, point);
       for (int s = 0; s < 2; ++s) {
-        const glm::dvec3 start = point + (s == 0 ? 1.0 : -1.0) * normal * double(tracer.epsilon());
+        if (!needed[s][vertex]) continue;
+        const glm::dvec3 start = point + (s == 0 ? 1.0 : -1.0) * mesh.normals[vertex] * double(tracer.epsilon());
         const float distance = light.kind == LightKind::directional
                                    ? 1e30f
                                    : static_cast<float>(glm::length(glm::dvec3(light.position) - start));
@@ -225,38 +248,33 @@ void build_volumes(const Tracer& tracer, const LightFrame& light, const SurfaceM
       }
     }
   });
-  // Per triangle: lit or not, and from which side (+1: the side its winding faces, which the mesh's
-  // normals agree with). Lit: it faces the light at its centroid and a vertex sees it; a vertex in
-  // shadow brings no light (the interpolation makes a shadow's edge across a triangle a ramp, not a step).
+  // Per triangle: lit or not. Lit: it faces the light and a vertex sees it; a vertex in shadow brings no
+  // light (the interpolation makes a shadow's edge across a triangle a ramp, not a step).
   std::vector<double> side(triangle_count, 0.0);
   std::vector<std::array<uint8_t, 3>> vertex_lit(triangle_count, {0, 0, 0});
   parallel_blocks(triangle_count, 256, [&](size_t begin, size_t end, size_t) {
     for (size_t index = begin; index < end; ++index) {
+      const double lit_side = facing_side[index];
+      if (lit_side == 0.0) continue;
       const glm::uvec3& triangle = mesh.triangles[index];
-      const glm::dvec3 p0 = mesh.positions[triangle.x], p1 = mesh.positions[triangle.y], p2 = mesh.positions[triangle.z];
-      const glm::dvec3 centroid = (p0 + p1 + p2) / 3.0;
-      const glm::dvec3 winding = glm::cross(p1 - p0, p2 - p0);
-      const glm::dvec3 travel = light_travel(light, centroid);
-      const double facing = glm::dot(winding, travel);
-      if (facing == 0.0) continue;
-      const double lit_side = facing < 0.0 ? 1.0 : -1.0;
       int seeing = 0;
       for (int corner = 0; corner < 3; ++corner) {
         const uint32_t vertex = triangle[corner];
-        const int before = seeing;
+        uint8_t lit = 0;
         if (glm::dot(mesh.normals[vertex], mesh.normals[vertex]) == 0.0) {
-          // A flat mesh's vertex, off the triangle along its own normal.
+          // A flat mesh's vertex (its own copy per triangle), off the triangle along its winding.
+          const glm::dvec3 p0 = mesh.positions[triangle.x];
+          const glm::dvec3 winding = glm::cross(mesh.positions[triangle.y] - p0, mesh.positions[triangle.z] - p0);
           const glm::dvec3 start = mesh.positions[vertex] + lit_side * glm::normalize(winding) * double(tracer.epsilon());
           const float distance = light.kind == LightKind::directional
                                      ? 1e30f
                                      : static_cast<float>(glm::length(glm::dvec3(light.position) - start));
-          seeing += !tracer.occluded(Vec3(start), Vec3(-light_travel(light, start)), distance);
+          lit = !tracer.occluded(Vec3(start), Vec3(-light_travel(light, start)), distance);
         } else {
-          // The vertex normal's side that the triangle's lit side is on.
-          const bool along = glm::dot(mesh.normals[vertex], winding) * lit_side > 0.0;
-          seeing += sees[along ? 0 : 1][vertex];
+          lit = sees[corner_side(index, vertex)][vertex];
         }
-        vertex_lit[index][corner] = static_cast<uint8_t>(seeing - before);
+        vertex_lit[index][corner] = lit;
+        seeing += lit;
       }
       if (seeing > 0) side[index] = lit_side;
     }
