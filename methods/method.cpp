@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "core/errors.h"
+
 namespace causticbench {
 
 std::vector<std::pair<std::string, bool>> Capabilities::entries() const {
@@ -39,6 +41,10 @@ std::optional<BrokenKnobRule> broken_knob_rule(const MethodInfo& info, const Par
 
 nlohmann::json lost_flux_json(const LostFlux& lost) {
   return {{"fraction", lost.fraction}, {"what", lost.what}, {"knob", lost.knob}, {"advice", lost.advice}};
+}
+
+void require_specular_object(const Scene& scene, const std::string& needs) {
+  if (!scene.has_specular_object()) throw InputError(fmt::format("{}: {}, and the scene has none", scene.source, needs));
 }
 
 std::string describe_lost_flux(const LostFlux& lost) {

@@ -162,6 +162,11 @@ class GpuBackend {
                           const std::string& folder) const = 0;
 };
 
+// For check_scene: throws InputError "<scene>: <needs>, and the scene has none" when the scene has no
+// specular object, for a method that has nothing to work from without one (`needs` says what it does
+// with them, "lpi precomputes the caustics of specular objects").
+void require_specular_object(const Scene& scene, const std::string& needs);
+
 class CausticMethod {
  public:
   virtual ~CausticMethod() = default;

@@ -16,10 +16,7 @@ namespace causticbench {
 using caustic_mapping::LightPass;
 
 void CausticMappingMethod::check_scene(const Scene& scene) const {
-  if (!scene.has_specular_object()) {
-    throw InputError(fmt::format("{}: caustic_mapping renders photon buffers of the specular objects, and the scene has none",
-                                 scene.source));
-  }
+  require_specular_object(scene, "caustic_mapping renders photon buffers of the specular objects");
 }
 
 void CausticMappingMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {

@@ -16,10 +16,7 @@ namespace causticbench {
 using caustic_volume::Volume;
 
 void CausticVolumeMethod::check_scene(const Scene& scene) const {
-  if (!scene.has_specular_object()) {
-    throw InputError(fmt::format("{}: caustic_volume builds volumes on the specular objects' triangles, and the scene has none",
-                                 scene.source));
-  }
+  require_specular_object(scene, "caustic_volume builds volumes on the specular objects' triangles");
 }
 
 namespace {

@@ -13,10 +13,7 @@ namespace causticbench {
 using namespace csl;
 
 void CslMethod::check_scene(const Scene& scene) const {
-  if (!scene.has_specular_object()) {
-    throw InputError(fmt::format("{}: csl makes spot lights from the light leaving specular objects, and the scene has none",
-                                 scene.source));
-  }
+  require_specular_object(scene, "csl makes spot lights from the light leaving specular objects");
   for (const Light& light : scene.lights) {
     if (light.kind == LightKind::environment_image || light.kind == LightKind::gaussian_spot) {
       throw InputError(fmt::format("{}: light '{}' is an environment light; csl renders directional and point lights only "

@@ -27,10 +27,7 @@ LpiMethod::LpiMethod() = default;
 LpiMethod::~LpiMethod() = default;
 
 void LpiMethod::check_scene(const Scene& scene) const {
-  if (!scene.has_specular_object()) {
-    throw InputError(fmt::format("{}: lpi precomputes the caustics of specular objects, and the scene has none",
-                                 scene.source));
-  }
+  require_specular_object(scene, "lpi precomputes the caustics of specular objects");
 }
 
 void LpiMethod::prepare(const PrepareContext& context, const ParamSet& build) {
