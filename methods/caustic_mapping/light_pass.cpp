@@ -22,106 +22,90 @@ constexpr double kWidestHalfAngle = 80.0 * kPiDouble / 180.0;
 constexpr double kWindowMargin = 0.1;
 constexpr int kProbeSide = 32;
 
-// A photon leaving the object: where, which way, with what flux; or why it did not.
-struct Outgoing {
-  bool covered = false;        // a photon-buffer texel on the object
-  bool second_failed = false;  // two_interface: no way out modelled
-  bool one_interface = false;  // refracted once (into a medium the receivers lie in)
-  Vec3 origin{0.0f}, direction{0.0f};
-  Color flux{0.0f};            // after the interfaces and the absorption inside
-  double not_modelled = 0.0;   // luminance of the flux the method does not follow (glass's Fresnel reflection)
-  Color absorption{0.0f};      // one_interface: the medium's coefficient, applied over the way to the receiver
-};
-
-// The photon buffer: per texel the object's front surface seen from the light and, for two_interface,
-// its back surface along the same ray (the back faces the paper renders).
-struct PhotonBuffer {
-  LightView view;
-  int resolution = 0;
-  std::vector<uint8_t> covered;
-  std::vector<Vec3> front, front_normal, back, back_normal;
-  std::vector<uint8_t> has_back;
+// One texel of the photon buffer: the object's front surface seen from the light and, for
+// two_interface, its back surface along the same ray (the back faces the paper renders).
+struct PhotonTexel {
+  bool covered = false;
+  bool has_back = false;
+  Vec3 front{0.0f}, front_normal{0.0f}, back{0.0f}, back_normal{0.0f}, travel{0.0f};
   // Through the object along the inward normal from the front (Wyman's d_N, which he precomputes per
   // vertex; here a ray per texel); 0 where there is no back.
-  std::vector<float> normal_depth;
-  std::vector<Vec3> travel;
-  std::vector<Color> flux;  // the light's flux through the texel
+  float normal_depth = 0.0f;
+  Color flux{0.0f};  // the light's flux through the texel
 };
 
-PhotonBuffer render_photon_buffer(const Tracer& tracer, const LightFrame& light, const LightView& view, int object,
-                                  int resolution, double back_distance, bool want_back) {
-  PhotonBuffer buffer;
-  buffer.view = view;
-  buffer.resolution = resolution;
-  const size_t texels = static_cast<size_t>(resolution) * resolution;
-  buffer.covered.assign(texels, 0);
-  buffer.has_back.assign(texels, 0);
-  buffer.front.assign(texels, Vec3(0.0f));
-  buffer.front_normal = buffer.back = buffer.back_normal = buffer.travel = buffer.front;
-  buffer.flux.assign(texels, Color(0.0f));
-  buffer.normal_depth.assign(texels, 0.0f);
-  const Color strength = light.kind == LightKind::directional ? light.light->irradiance : light.light->intensity;
-  parallel_blocks(texels, 1024, [&](size_t begin, size_t end, size_t) {
-    for (size_t texel = begin; texel < end; ++texel) {
-      const int x = static_cast<int>(texel % resolution), y = static_cast<int>(texel / resolution);
-      const Ray ray = view.ray((x + 0.5) / resolution, (y + 0.5) / resolution, back_distance);
-      SurfaceHit hit;
-      // Anything else first is an occluder between the light and the object: no photon (the depth test
-      // of the rasterised buffer).
-      if (!tracer.intersect(ray, hit) || hit.object != object) continue;
-      buffer.covered[texel] = 1;
-      buffer.front[texel] = hit.position;
-      buffer.front_normal[texel] = hit.shading_normal;
-      buffer.travel[texel] = ray.direction;
-      buffer.flux[texel] = strength * static_cast<float>(view.texel_measure(x, y, resolution));
-      if (!want_back) continue;
-      SurfaceHit across;
-      if (tracer.intersect(tracer.spawn(hit, -hit.shading_normal), across) && across.object == object)
-        buffer.normal_depth[texel] = glm::length(across.position - hit.position);
-      // The nearest back face along the light: what a depth-tested back-face pass keeps (on a concave
-      // object, the first exit, not the last).
-      SurfaceHit exit;
-      if (tracer.intersect(tracer.spawn(hit, ray.direction), exit) && exit.object == object) {
-        buffer.has_back[texel] = 1;
-        buffer.back[texel] = exit.position;
-        buffer.back_normal[texel] = exit.shading_normal;
-      }
-    }
+// Texel (x, y) of the photon buffer over the plan's view, traced as a rasteriser renders it: one ray
+// through the texel's centre.
+PhotonTexel trace_photon_texel(const Tracer& tracer, const PassPlan& plan, int object, int resolution, int x, int y) {
+  PhotonTexel texel;
+  const LightView& view = plan.photon_view;
+  const Ray ray = view.ray((x + 0.5) / resolution, (y + 0.5) / resolution, plan.back);
+  SurfaceHit hit;
+  // Anything else first is an occluder between the light and the object: no photon (the depth test
+  // of the rasterised buffer).
+  if (!tracer.intersect(ray, hit) || hit.object != object) return texel;
+  texel.covered = true;
+  texel.front = hit.position;
+  texel.front_normal = hit.shading_normal;
+  texel.travel = ray.direction;
+  texel.flux = plan.strength * static_cast<float>(view.texel_measure(x, y, resolution));
+  if (!plan.want_back) return texel;
+  SurfaceHit across;
+  if (tracer.intersect(tracer.spawn(hit, -hit.shading_normal), across) && across.object == object)
+    texel.normal_depth = glm::length(across.position - hit.position);
+  // The nearest back face along the light: what a depth-tested back-face pass keeps (on a concave
+  // object, the first exit, not the last).
+  SurfaceHit exit;
+  if (tracer.intersect(tracer.spawn(hit, ray.direction), exit) && exit.object == object) {
+    texel.has_back = true;
+    texel.back = exit.position;
+    texel.back_normal = exit.shading_normal;
+  }
+  return texel;
+}
+
+std::vector<PhotonTexel> render_photon_buffer(const Tracer& tracer, const PassPlan& plan, int object, int resolution) {
+  std::vector<PhotonTexel> buffer(static_cast<size_t>(resolution) * resolution);
+  parallel_blocks(buffer.size(), 1024, [&](size_t begin, size_t end, size_t) {
+    for (size_t texel = begin; texel < end; ++texel)
+      buffer[texel] = trace_photon_texel(tracer, plan, object, resolution, static_cast<int>(texel % resolution),
+                                         static_cast<int>(texel / resolution));
   });
   return buffer;
 }
 
-// How the photon of `texel` leaves the object: reflected off a mirror, or refracted through glass at one
-// interface or, with two_interface, out of the back by Wyman's image-space approximation (the distance
-// inside from the front and back depths along the light, the exit normal read where the refracted ray
-// has travelled that far).
-Outgoing leave_object(const PhotonBuffer& buffer, size_t texel, const Material& material, const Settings& settings) {
+// How the photon of texel `at` leaves the object: reflected off a mirror, or refracted through glass at
+// one interface or, with two_interface, out of the back by Wyman's image-space approximation (the
+// distance inside from the front and back depths along the light, the exit normal read where the
+// refracted ray has travelled that far: `texel_at(index)` is the buffer's texel there).
+template <class TexelAt>
+Outgoing leave_object(const PhotonTexel& at, TexelAt&& texel_at, const LightView& view, int resolution,
+                      const Material& material, const Settings& settings) {
   Outgoing out;
-  if (!buffer.covered[texel]) return out;
+  if (!at.covered) return out;
   out.covered = true;
-  const Vec3 travel = buffer.travel[texel];
-  const Vec3 normal = glm::dot(travel, buffer.front_normal[texel]) < 0.0f ? buffer.front_normal[texel]
-                                                                           : -buffer.front_normal[texel];
+  const Vec3 travel = at.travel;
+  const Vec3 normal = glm::dot(travel, at.front_normal) < 0.0f ? at.front_normal : -at.front_normal;
   const float cos_incident = std::max(0.0f, -glm::dot(travel, normal));
-  out.origin = buffer.front[texel];
+  out.origin = at.front;
   if (material.kind != MaterialKind::glass) {
-    out.flux = buffer.flux[texel] * material.mirror_reflectance(cos_incident);
+    out.flux = at.flux * material.mirror_reflectance(cos_incident);
     out.direction = reflect(travel, normal);
     return out;
   }
   // From outside, unless the light is inside the object (a point light in the glass).
-  const float eta = glm::dot(travel, buffer.front_normal[texel]) < 0.0f ? material.ior : 1.0f / material.ior;
+  const float eta = glm::dot(travel, at.front_normal) < 0.0f ? material.ior : 1.0f / material.ior;
   const float entering = fresnel_dielectric(cos_incident, eta);
-  out.not_modelled = luminance(buffer.flux[texel]) * entering;
+  out.not_modelled = luminance(at.flux) * entering;
   Vec3 inside;
   if (!refract(travel, normal, eta, inside)) {  // total internal reflection (a light inside), or rounding
     out.second_failed = true;
-    out.flux = buffer.flux[texel] * (1.0f - entering);
+    out.flux = at.flux * (1.0f - entering);
     return out;
   }
-  out.flux = buffer.flux[texel] * (1.0f - entering);
+  out.flux = at.flux * (1.0f - entering);
   const bool one = settings.refraction == Settings::Refraction::one_interface ||
-                   (settings.refraction == Settings::Refraction::automatic && !buffer.has_back[texel]);
+                   (settings.refraction == Settings::Refraction::automatic && !at.has_back);
   if (one) {
     out.one_interface = true;
     out.direction = inside;
@@ -137,23 +121,24 @@ Outgoing leave_object(const PhotonBuffer& buffer, size_t texel, const Material& 
     out.second_failed = true;
     return out;
   };
-  if (!buffer.has_back[texel]) return failed();
-  const std::optional<LightView::Projected> front = buffer.view.project(buffer.front[texel]);
-  const std::optional<LightView::Projected> back = buffer.view.project(buffer.back[texel]);
+  if (!at.has_back) return failed();
+  const std::optional<LightView::Projected> front = view.project(at.front);
+  const std::optional<LightView::Projected> back = view.project(at.back);
   if (!front || !back) return failed();
   const float along_light = static_cast<float>(back->depth - front->depth);
   const double incident = std::acos(std::clamp(static_cast<double>(cos_incident), 0.0, 1.0));
   const double transmitted = std::acos(std::clamp(static_cast<double>(-glm::dot(inside, normal)), 0.0, 1.0));
   const double ratio = incident > 1e-4 ? transmitted / incident : 1.0 / material.ior;
-  const float distance = static_cast<float>(ratio * along_light + (1.0 - ratio) * buffer.normal_depth[texel]);
+  const float distance = static_cast<float>(ratio * along_light + (1.0 - ratio) * at.normal_depth);
   const Vec3 exit = out.origin + inside * distance;
-  const std::optional<LightView::Projected> at = buffer.view.project(exit);
-  if (!at || at->s < 0.0 || at->s >= 1.0 || at->t < 0.0 || at->t >= 1.0) return failed();
-  const int n = buffer.resolution;
-  const size_t exit_texel = static_cast<size_t>(std::min(n - 1, static_cast<int>(at->t * n))) * n +
-                            static_cast<size_t>(std::min(n - 1, static_cast<int>(at->s * n)));
-  if (!buffer.has_back[exit_texel]) return failed();
-  const Vec3 back_normal = buffer.back_normal[exit_texel];
+  const std::optional<LightView::Projected> exit_at = view.project(exit);
+  if (!exit_at || exit_at->s < 0.0 || exit_at->s >= 1.0 || exit_at->t < 0.0 || exit_at->t >= 1.0) return failed();
+  const int n = resolution;
+  const size_t exit_texel = static_cast<size_t>(std::min(n - 1, static_cast<int>(exit_at->t * n))) * n +
+                            static_cast<size_t>(std::min(n - 1, static_cast<int>(exit_at->s * n)));
+  const PhotonTexel exit_side = texel_at(exit_texel);
+  if (!exit_side.has_back) return failed();
+  const Vec3 back_normal = exit_side.back_normal;
   const Vec3 facing = glm::dot(inside, back_normal) < 0.0f ? back_normal : -back_normal;
   const float cos_inside = std::max(0.0f, -glm::dot(inside, facing));
   const float leaving = fresnel_dielectric(cos_inside, 1.0f / material.ior);
@@ -169,6 +154,7 @@ Outgoing leave_object(const PhotonBuffer& buffer, size_t texel, const Material& 
   out.direction = outside;
   return out;
 }
+
 
 }  // namespace
 
@@ -207,16 +193,17 @@ void PassStatistics::add(const PassStatistics& other) {
   search_steps += other.search_steps;
 }
 
-LightPass begin_pass(const Tracer& tracer, const LightFrame& light, int object, const Settings& settings) {
-  LightPass pass;
-  pass.object = object;
-  pass.light_name = light.light ? light.light->name : "";
+PassPlan plan_pass(const Tracer& tracer, const LightFrame& light, int object, const Settings& settings) {
+  PassPlan plan;
   const SceneFrame& frame = tracer.frame();
   const BoundingSphere& bounds = frame.bounds[static_cast<size_t>(object)];
   const Material& material = frame.scene->objects[static_cast<size_t>(object)].material;
   const std::optional<LightView> view = light_view_of(light, bounds, kWidestHalfAngle);
-  if (!view) return pass;
-  pass.photon_window_half_extent = view->half_extent();
+  if (!view) return plan;
+  plan.valid = true;
+  plan.photon_view = *view;
+  plan.strength = light.kind == LightKind::directional ? light.light->irradiance : light.light->intensity;
+  plan.want_back = material.kind == MaterialKind::glass && settings.refraction != Settings::Refraction::one_interface;
   if (light.kind == LightKind::point) {
     // The solid angle of the bounding sphere's cone from the light (all of it from inside) against the
     // window's square, 4 atan(h^2 / sqrt(1 + 2 h^2)): nonzero only where the window was capped.
@@ -225,67 +212,96 @@ LightPass begin_pass(const Tracer& tracer, const LightFrame& light, int object, 
     const double cone = ratio < 1.0 ? 2.0 * kPiDouble * (1.0 - std::sqrt(1.0 - ratio * ratio)) : 4.0 * kPiDouble;
     const double h = view->half_extent();
     const double window = 4.0 * std::atan(h * h / std::sqrt(1.0 + 2.0 * h * h));
-    if (cone > window * 1.0001) {
-      const double outside = luminance(light.light->intensity) * (cone - window);
-      pass.statistics.flux_outside_window = outside;
-      pass.statistics.flux_leaving += outside;
-    }
+    if (cone > window * 1.0001) plan.flux_outside_window = luminance(light.light->intensity) * (cone - window);
   }
   // Orthographic rays start outside the whole scene.
-  const double back = glm::length(bounds.center - frame.scene_bounds.center) + frame.scene_bounds.radius + bounds.radius;
-
-  // The photon buffer and each photon's way out of the object.
-  const bool glass = material.kind == MaterialKind::glass;
-  const PhotonBuffer buffer = render_photon_buffer(tracer, light, *view, object, settings.photon_resolution, back,
-                                                   glass && settings.refraction != Settings::Refraction::one_interface);
-  const size_t texels = buffer.covered.size();
-  std::vector<Outgoing> outgoing(texels);
-  parallel_blocks(texels, 1024, [&](size_t begin, size_t end, size_t) {
-    for (size_t texel = begin; texel < end; ++texel) outgoing[texel] = leave_object(buffer, texel, material, settings);
-  });
-  PassStatistics& statistics = pass.statistics;
-  pass.leaving.reserve(static_cast<size_t>(
-      std::count_if(outgoing.begin(), outgoing.end(), [](const Outgoing& photon) { return photon.covered && !photon.second_failed; })));
-  for (const Outgoing& photon : outgoing) {
-    if (!photon.covered) continue;
-    ++statistics.photons;
-    statistics.one_interface += photon.one_interface;
-    const double flux = luminance(photon.flux);
-    statistics.flux_leaving += flux + photon.not_modelled;
-    statistics.flux_not_modelled += photon.not_modelled;
-    if (photon.second_failed) {
-      ++statistics.second_interface_failed;
-      statistics.flux_second_interface += flux;
-      continue;
-    }
-    pass.leaving.push_back(PhotonRay{photon.origin, photon.direction, photon.flux, photon.absorption});
-  }
+  plan.back = glm::length(bounds.center - frame.scene_bounds.center) + frame.scene_bounds.radius + bounds.radius;
 
   // The receiver window: the object's own silhouette (the search starts from the receiver behind a
   // photon's texel), where a probe of photons meets the receivers with exact rays, and the search's first
   // step (the start's distance along the ray), which overshoots the hit where the receiver behind the
-  // photon lies farther than the one its ray meets and must still read the map.
+  // photon lies farther than the one its ray meets and must still read the map. The probe's photons are
+  // texels of the full photon buffer, traced on their own (and the texels their second interfaces read).
   std::vector<Vec3> points;
   for (int corner = 0; corner < 8; ++corner)
     points.push_back(bounds.center + bounds.radius * Vec3(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1));
-  const int stride = std::max(1, settings.photon_resolution / kProbeSide);
+  const int n = settings.photon_resolution;
+  const int stride = std::max(1, n / kProbeSide);
+  std::vector<int> probes;
+  for (int y = stride / 2; y < n; y += stride)
+    for (int x = stride / 2; x < n; x += stride) probes.push_back(y * n + x);
+  std::vector<std::vector<Vec3>> found(probes.size());
   ReceiverMap none;
   none.object = object;
-  for (int y = stride / 2; y < settings.photon_resolution; y += stride)
-    for (int x = stride / 2; x < settings.photon_resolution; x += stride) {
-      const Outgoing& photon = outgoing[static_cast<size_t>(y) * settings.photon_resolution + x];
+  const auto texel_at = [&](size_t texel) {
+    return trace_photon_texel(tracer, plan, object, n, static_cast<int>(texel % n), static_cast<int>(texel / n));
+  };
+  parallel_blocks(probes.size(), 16, [&](size_t begin, size_t end, size_t) {
+    for (size_t i = begin; i < end; ++i) {
+      const Outgoing photon = leave_object(texel_at(static_cast<size_t>(probes[i])), texel_at, *view, n, material, settings);
       if (!photon.covered || photon.second_failed) continue;
       const SearchResult probe = search_receiver(none, tracer, photon.origin, photon.direction, 0, true);
       if (probe.failure != SearchFailure::none) continue;  // leaves the scene: no receiver to hold
-      points.push_back(probe.hit);
+      found[i].push_back(probe.hit);
       SurfaceHit behind;
       const Vec3 travel = view->travel_at(photon.origin);
       if (first_receiver(tracer, Ray{photon.origin + travel * tracer.epsilon(), travel}, behind, object))
-        points.push_back(photon.origin + photon.direction * glm::length(behind.position - photon.origin));
+        found[i].push_back(photon.origin + photon.direction * glm::length(behind.position - photon.origin));
     }
-  const LightView receiver_view =
-      LightView::fitted(*view, points, kWindowMargin, std::tan(kWidestHalfAngle)).value_or(*view);
-  pass.receivers = render_receiver_map(tracer, receiver_view, settings.map_resolution, back, object);
+  });
+  for (const std::vector<Vec3>& probe : found) points.insert(points.end(), probe.begin(), probe.end());
+  plan.receiver_view = LightView::fitted(*view, points, kWindowMargin, std::tan(kWidestHalfAngle)).value_or(*view);
+  return plan;
+}
+
+LightPass planned_pass(const Tracer& tracer, const LightFrame& light, int object, const Settings& settings) {
+  LightPass pass;
+  pass.object = object;
+  pass.light_name = light.light ? light.light->name : "";
+  pass.plan = plan_pass(tracer, light, object, settings);
+  if (!pass.plan.valid) return pass;
+  pass.photon_window_half_extent = pass.plan.photon_view.half_extent();
+  pass.statistics.flux_outside_window = pass.plan.flux_outside_window;
+  pass.statistics.flux_leaving += pass.plan.flux_outside_window;
+  pass.receivers.view = pass.plan.receiver_view;
+  pass.receivers.object = object;
+  pass.receivers.resolution = settings.map_resolution;
+  return pass;
+}
+
+void count_leaving(LightPass& pass, const Outgoing& photon) {
+  if (!photon.covered) return;
+  PassStatistics& statistics = pass.statistics;
+  ++statistics.photons;
+  statistics.one_interface += photon.one_interface;
+  const double flux = luminance(photon.flux);
+  statistics.flux_leaving += flux + photon.not_modelled;
+  statistics.flux_not_modelled += photon.not_modelled;
+  if (photon.second_failed) {
+    ++statistics.second_interface_failed;
+    statistics.flux_second_interface += flux;
+    return;
+  }
+  pass.leaving.push_back(PhotonRay{photon.origin, photon.direction, photon.flux, photon.absorption});
+}
+
+LightPass begin_pass(const Tracer& tracer, const LightFrame& light, int object, const Settings& settings) {
+  LightPass pass = planned_pass(tracer, light, object, settings);
+  if (!pass.plan.valid) return pass;
+  const Material& material = tracer.frame().scene->objects[static_cast<size_t>(object)].material;
+  // The photon buffer and each photon's way out of the object.
+  const int n = settings.photon_resolution;
+  const std::vector<PhotonTexel> buffer = render_photon_buffer(tracer, pass.plan, object, n);
+  std::vector<Outgoing> outgoing(buffer.size());
+  const auto texel_at = [&](size_t texel) -> const PhotonTexel& { return buffer[texel]; };
+  parallel_blocks(buffer.size(), 1024, [&](size_t begin, size_t end, size_t) {
+    for (size_t texel = begin; texel < end; ++texel)
+      outgoing[texel] = leave_object(buffer[texel], texel_at, pass.plan.photon_view, n, material, settings);
+  });
+  pass.leaving.reserve(static_cast<size_t>(
+      std::count_if(outgoing.begin(), outgoing.end(), [](const Outgoing& photon) { return photon.covered && !photon.second_failed; })));
+  for (const Outgoing& photon : outgoing) count_leaving(pass, photon);
+  pass.receivers = render_receiver_map(tracer, pass.plan.receiver_view, settings.map_resolution, pass.plan.back, object);
   return pass;
 }
 

@@ -85,12 +85,42 @@ struct PhotonRay {
   Color absorption{0.0f};  // of the medium it travels in (one_interface), per scene unit
 };
 
-// What became of a photon's search: one definition for both backends (the Vulkan photon stage writes it).
-enum class Landing : uint32_t { landed = 0, search_failed = 1, outside_map = 2 };
+// What became of a photon's search: one definition for both backends (the Vulkan photon stage writes it;
+// `none` is its photon-buffer texel that sent no photon).
+enum class Landing : uint32_t { landed = 0, search_failed = 1, outside_map = 2, none = 3 };
+
+// What a photon-buffer texel sent out of the object: where, which way, with what flux; or why nothing.
+// The CPU computes it from the traced buffer, the Vulkan backend's leave stage from the rasterised one;
+// both count it through count_leaving.
+struct Outgoing {
+  bool covered = false;        // a photon-buffer texel on the object
+  bool second_failed = false;  // two_interface: no way out modelled
+  bool one_interface = false;  // refracted once (into a medium the receivers lie in)
+  Vec3 origin{0.0f}, direction{0.0f};
+  Color flux{0.0f};            // after the interfaces and the absorption inside
+  double not_modelled = 0.0;   // luminance of the flux the method does not follow (glass's Fresnel reflection)
+  Color absorption{0.0f};      // one_interface: the medium's coefficient, applied over the way to the receiver
+};
+
+// What the CPU decides for a pass before either backend renders it, as the paper's author set up his
+// shadow-map frusta: the photon buffer's light view (fitted to the object's bounding sphere), the caustic
+// map's (fitted, with a margin, to where a probe of 32 x 32 photons meets the receivers with exact rays),
+// how far behind its window an orthographic view starts, the light's strength (irradiance across a
+// directional light, intensity of a point light).
+struct PassPlan {
+  bool valid = false;  // a light view exists (not for an environment)
+  LightView photon_view, receiver_view;
+  double back = 0.0;
+  Color strength{0.0f};
+  bool want_back = false;  // glass that may take two interfaces: the buffer holds back faces and d_N
+  double flux_outside_window = 0.0;  // PassStatistics::flux_outside_window
+};
+PassPlan plan_pass(const Tracer& tracer, const LightFrame& light, int object, const Settings& settings);
 
 struct LightPass {
   int object = -1;
   std::string light_name;
+  PassPlan plan;
   ReceiverMap receivers;
   // Flux per caustic-map texel (RGB), then converted to flux per texel measure (LightView::texel_measure:
   // W/m^2 across the light for a directional light, W/sr from a point light), what the lookup reads.
@@ -102,9 +132,16 @@ struct LightPass {
   double photon_window_half_extent = 0.0;  // the photon buffer's window (scene units, or tan of the half-angle)
 };
 
-// The light-view half of a pass, the same for both backends: the light views, the photon buffer, each
-// photon's way out of the object (pass.leaving, with the statistics of what left), the receiver map.
+// The light-view half of a pass on the CPU: the plan, the photon buffer, each photon's way out of the
+// object (pass.leaving, with the statistics of what left), the receiver map.
 LightPass begin_pass(const Tracer& tracer, const LightFrame& light, int object, const Settings& settings);
+
+// A pass with its plan only (the Vulkan backend renders the rest): the receiver map's view and resolution
+// set, its texels empty.
+LightPass planned_pass(const Tracer& tracer, const LightFrame& light, int object, const Settings& settings);
+
+// Adds one photon-buffer texel's outcome to the statistics, and a photon that leaves to pass.leaving.
+void count_leaving(LightPass& pass, const Outgoing& photon);
 
 // Adds one searched photon to the statistics: `arriving` is what reaches its receiver (landed and
 // outside_map), `steps` the receiver-map reads. Both backends count through it.

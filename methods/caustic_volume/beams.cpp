@@ -8,7 +8,6 @@
 #include "core/parallel.h"
 #include "core/scene.h"
 #include "methods/caustic_volume/volume.h"
-#include "methods/common/analytic_mesh.h"
 
 namespace causticbench::caustic_volume {
 
@@ -21,44 +20,6 @@ void BeamStatistics::add(const BeamStatistics& other) {
   flux_lit += other.flux_lit;
   flux_dropped += other.flux_dropped;
   flux_torn += other.flux_torn;
-}
-
-SurfaceMesh surface_mesh(const SceneFrame& frame, int object, int segments) {
-  const SceneObject& described = frame.scene->objects[static_cast<size_t>(object)];
-  SurfaceMesh mesh;
-  if (described.shape.is_analytic()) {
-    const TriangleMesh local = tessellate_analytic(described.shape, segments);
-    const Transform& transform = frame.transforms[static_cast<size_t>(object)];
-    for (size_t i = 0; i < local.positions.size(); ++i) {
-      mesh.positions.push_back(glm::dvec3(transform.point(local.positions[i])));
-      mesh.normals.push_back(glm::normalize(glm::dvec3(transform.normal(local.normals[i]))));
-    }
-    mesh.triangles = local.triangles;
-    return mesh;
-  }
-  const TriangleMesh& world = frame.world_meshes[static_cast<size_t>(object)];
-  for (size_t i = 0; i < world.positions.size(); ++i) {
-    mesh.positions.push_back(glm::dvec3(world.positions[i]));
-    const bool smooth = world.smooth && i < world.normals.size();
-    mesh.normals.push_back(smooth ? glm::normalize(glm::dvec3(world.normals[i])) : glm::dvec3(0.0));
-  }
-  mesh.triangles = world.triangles;
-  if (!world.smooth) {
-    // Flat shading: one normal per triangle, so that its vertices are not shared (each triangle a prism).
-    SurfaceMesh flat;
-    for (const glm::uvec3& triangle : world.triangles) {
-      const glm::dvec3 p[3] = {mesh.positions[triangle.x], mesh.positions[triangle.y], mesh.positions[triangle.z]};
-      const glm::dvec3 normal = glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0]));
-      const uint32_t first = static_cast<uint32_t>(flat.positions.size());
-      for (const glm::dvec3& point : p) {
-        flat.positions.push_back(point);
-        flat.normals.push_back(normal);
-      }
-      flat.triangles.emplace_back(first, first + 1, first + 2);
-    }
-    return flat;
-  }
-  return mesh;
 }
 
 namespace {

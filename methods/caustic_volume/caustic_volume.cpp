@@ -99,7 +99,7 @@ void CausticVolumeMethod::update(const FrameContext& frame, const ParamSet& fram
       const double t_max = automatic ? glm::length(glm::dvec3(bounds.center) - glm::dvec3(scene.scene_bounds.center)) +
                                            scene.scene_bounds.radius + bounds.radius
                                      : frame_knobs.real("max_distance");
-      const caustic_volume::SurfaceMesh mesh = caustic_volume::surface_mesh(scene, object, tessellation_);
+      const SurfaceMesh mesh = surface_mesh(scene, object, tessellation_);
       caustic_volume::build_volumes(frame.tracer, light, mesh, object, scene.scene->objects[static_cast<size_t>(object)].material,
                                     refraction, t_max, automatic && !box.empty ? &box : nullptr, volumes_, statistics_);
     }

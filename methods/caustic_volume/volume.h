@@ -14,6 +14,7 @@
 #include "core/math.h"
 #include "core/shape.h"
 #include "core/tracer.h"
+#include "methods/common/analytic_mesh.h"
 
 namespace causticbench::caustic_volume {
 
@@ -66,16 +67,6 @@ struct BeamStatistics {
   double flux_torn = 0.0;     // entering the torn ones
   void add(const BeamStatistics& other);
 };
-
-// A specular object's triangles in world space, vertices shared (the one-ring of a vertex is its triangles).
-struct SurfaceMesh {
-  std::vector<glm::dvec3> positions, normals;
-  std::vector<glm::uvec3> triangles;
-};
-
-// The object's mesh at this frame: an analytic shape tessellated with `segments` (analytic_mesh.h),
-// otherwise the scene's own triangles.
-SurfaceMesh surface_mesh(const SceneFrame& frame, int object, int segments);
 
 // The box that holds every receiver of the frame (their exact bounds: meshes' vertices, analytic shapes'
 // boxes), and the far cap it gives a volume: where every ray of the volume has left it. Per axis, when the

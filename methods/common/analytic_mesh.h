@@ -5,6 +5,11 @@
 // quantity is one value where triangles meet.
 #pragma once
 
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/scene.h"
 #include "core/shape.h"
 
 namespace causticbench {
@@ -14,5 +19,17 @@ namespace causticbench {
 // 64 around, 8 high, 2 x 64 x 8 triangles). Object space; smooth (vertex normals are the surface's).
 // Not for the non-analytic shapes (core/shape.h's tessellate() makes those).
 TriangleMesh tessellate_analytic(const ShapeDesc& shape, int segments);
+
+// An object's triangles in world space, vertices shared where the surface is smooth (the one-ring of a
+// vertex is its triangles); a flat-shaded mesh has its own three vertices per triangle, with its normal.
+struct SurfaceMesh {
+  std::vector<glm::dvec3> positions, normals;
+  std::vector<glm::uvec3> triangles;
+};
+
+// The object's mesh at this frame: an analytic shape tessellated with `segments` (above), otherwise the
+// scene's own triangles (what the ray tracer intersects). Caustic volumes build their beams on it; the
+// rasterised light views of caustics mapping draw it.
+SurfaceMesh surface_mesh(const SceneFrame& frame, int object, int segments);
 
 }  // namespace causticbench

@@ -181,7 +181,7 @@ struct RingVolumes {
   cv::BeamStatistics statistics;
   explicit RingVolumes(int segments) {
     const cv::ReceiverBox box = cv::receiver_box(frame);
-    cv::build_volumes(tracer, frame.lights[0], cv::surface_mesh(frame, 1, segments), 1, scene.objects[1].material,
+    cv::build_volumes(tracer, frame.lights[0], surface_mesh(frame, 1, segments), 1, scene.objects[1].material,
                       cv::Refraction::automatic, 100.0,
                       &box, volumes, statistics);
   }
