@@ -26,6 +26,7 @@ void CausticMappingMethod::update(const FrameContext& frame, const ParamSet& fra
   passes_.clear();
   statistics_ = caustic_mapping::PassStatistics{};
   skipped_lights_.clear();
+  tracer_ = &frame.tracer;
   const std::vector<int> objects = frame.frame.specular_objects();
   for (const LightFrame& light : frame.frame.lights) {
     // An environment has no one light view: not modelled (Liu 2008, Table 1), and said in the record.
@@ -34,10 +35,13 @@ void CausticMappingMethod::update(const FrameContext& frame, const ParamSet& fra
       continue;
     }
     for (int object : objects) {
-      // The light-view passes on the CPU's ray tracer for both backends; the search and splats where the
-      // backend runs them.
+      // The CPU plans every pass; the CPU backend traces the rest, the Vulkan backend rasterises it.
+      if (vulkan_) {
+        passes_.push_back(caustic_mapping::planned_pass(frame.tracer, light, object, settings));
+        continue;
+      }
       passes_.push_back(caustic_mapping::begin_pass(frame.tracer, light, object, settings));
-      if (!vulkan_) caustic_mapping::land_and_splat(frame.tracer, settings, passes_.back());
+      caustic_mapping::land_and_splat(frame.tracer, settings, passes_.back());
     }
   }
   if (vulkan_) update_on_device();

@@ -45,7 +45,7 @@ class CausticMappingMethod : public CausticMethod, public GpuBackend {
 
  private:
   struct GpuState;
-  // The passes of the frame as the device takes them (frame_data.h), without the receivers.
+  // The scene and the passes' plans as the device takes them (frame_data.h), without the receivers.
   void fill_frame_data(CausticMappingFrameData& frame) const;
   // backend: vulkan's half of update(): every pass's photons searched and splatted on the device, counted.
   void update_on_device();
@@ -55,6 +55,9 @@ class CausticMappingMethod : public CausticMethod, public GpuBackend {
   bool vulkan_ = false;
   std::unique_ptr<GpuState> gpu_;  // created by the first update with backend: vulkan
   std::vector<caustic_mapping::LightPass> passes_;
+  // The last update's tracer (and its frame): what fill_frame_data rasterises. dump_frame follows the
+  // render of that frame while it lives (method_runner.cpp).
+  const Tracer* tracer_ = nullptr;
   caustic_mapping::PassStatistics statistics_;
   std::vector<std::string> skipped_lights_;  // environment lights: no light view (declared, not modelled)
 };

@@ -1,14 +1,16 @@
-// caustic_mapping's Vulkan backend on the method's side: the passes' light views, receiver maps and
-// leaving photons as the device takes them (frame_data.h), the device's photon stage and splats in
-// update() with their statistics counted as the CPU counts its own (count_landing), the lookup in
-// render(), and `--dump-frame`. The light-view passes are the CPU's (light_pass.cpp) for both backends.
+// caustic_mapping's Vulkan backend on the method's side: the scene and the passes' plans as the device
+// takes them (frame_data.h), the device's frame in update() with its statistics counted as the CPU counts
+// its own (count_leaving, count_landing), the lookup in render(), and `--dump-frame`.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "core/errors.h"
+#include "core/parallel.h"
 #include "methods/caustic_mapping/caustic_mapping.h"
 #include "methods/caustic_mapping/frame_data.h"
 #include "methods/caustic_mapping/vulkan_caustic_mapping.h"
+#include "methods/common/analytic_mesh.h"
 #include "methods/common/gpu_arrays.h"
 
 namespace causticbench {
@@ -26,41 +28,108 @@ struct CausticMappingMethod::GpuState {
 CausticMappingMethod::CausticMappingMethod() = default;
 CausticMappingMethod::~CausticMappingMethod() = default;
 
+namespace {
+
+// Segments around an analytic shape's axis when the light views rasterise it (analytic_mesh.h): half the
+// photon buffer's resolution, at least 64 and at most 512, so that a tessellated silhouette or normal
+// strays from the exact surface by well under a photon-buffer texel (a sphere at 256 segments: its
+// chords sag 7.5e-5 of its radius, its interpolated normals turn by under 1e-4 rad).
+int raster_segments(const caustic_mapping::Settings& settings) {
+  return std::clamp(2 * settings.photon_resolution, 64, 512);
+}
+
+float material_code(MaterialKind kind) {
+  switch (kind) {
+    case MaterialKind::mirror: return 1.0f;
+    case MaterialKind::glass: return 2.0f;
+    case MaterialKind::diffuse_mirror: return 3.0f;
+    default: return 0.0f;
+  }
+}
+
+// The depth range of `view` that holds the whole scene (its bounding sphere, with a margin).
+std::pair<float, float> depth_range(const LightView& view, const BoundingSphere& scene) {
+  const double centre = glm::dot(glm::dvec3(scene.center) - glm::dvec3(view.eye()), glm::dvec3(view.axis()));
+  const double radius = 1.01 * scene.radius + 1e-6;
+  if (view.is_orthographic()) return {static_cast<float>(centre - radius), static_cast<float>(centre + radius)};
+  const double distance = glm::length(glm::dvec3(scene.center) - glm::dvec3(view.eye()));
+  const double far = distance + radius;
+  const double near = std::max(1e-5 * far, distance > radius ? 0.5 * (distance - radius) : 0.0);
+  return {static_cast<float>(near), static_cast<float>(far)};
+}
+
+}  // namespace
+
 void CausticMappingMethod::fill_frame_data(CausticMappingFrameData& frame) const {
   frame.search_iterations = static_cast<uint32_t>(settings_.search_iterations);
   frame.plane_hit = settings_.refine ? 1u : 0u;
   frame.splat = settings_.splat == caustic_mapping::SplatKind::point      ? 0u
                 : settings_.splat == caustic_mapping::SplatKind::gaussian ? 1u
                                                                           : 2u;
+  frame.refraction = settings_.refraction == caustic_mapping::Settings::Refraction::two_interface   ? 1u
+                     : settings_.refraction == caustic_mapping::Settings::Refraction::one_interface ? 2u
+                                                                                                    : 0u;
   frame.splat_radius = static_cast<float>(settings_.splat_radius);
   frame.splat_photons = static_cast<float>(settings_.splat_photons);
   frame.max_splat_radius = static_cast<float>(settings_.max_splat_radius);
-  frame.views.clear(), frame.passes.clear(), frame.receivers.clear(), frame.measures.clear(), frame.photons.clear();
+  frame.vertices.clear(), frame.objects.clear(), frame.views.clear(), frame.passes.clear();
+  frame.strengths.clear(), frame.measures.clear(), frame.photon_measures.clear();
+  const Tracer& tracer = *tracer_;
+  const SceneFrame& scene = tracer.frame();
+
+  // The scene's triangles, and d_N at the vertices of glass that may take two interfaces: a ray from the
+  // vertex along its inward normal to the object's far side (Wyman's per-vertex precomputation).
+  const bool two = settings_.refraction != caustic_mapping::Settings::Refraction::one_interface;
+  for (size_t object = 0; object < scene.scene->objects.size(); ++object) {
+    const Material& material = scene.scene->objects[object].material;
+    const SurfaceMesh mesh = surface_mesh(scene, static_cast<int>(object), raster_segments(settings_));
+    std::vector<float> normal_depth(mesh.positions.size(), 0.0f);
+    if (material.kind == MaterialKind::glass && two)
+      parallel_blocks(mesh.positions.size(), 1024, [&](size_t begin, size_t end, size_t) {
+        for (size_t i = begin; i < end; ++i) {
+          const Vec3 inward = -Vec3(mesh.normals[i]);
+          SurfaceHit hit;
+          if (tracer.intersect(Ray{Vec3(mesh.positions[i]) + inward * tracer.epsilon(), inward}, hit) &&
+              hit.object == static_cast<int>(object))
+            normal_depth[i] = hit.t + tracer.epsilon();
+        }
+      });
+    for (const glm::uvec3& triangle : mesh.triangles)
+      for (int corner = 0; corner < 3; ++corner) {
+        const uint32_t i = triangle[corner];
+        const glm::dvec3 &p = mesh.positions[i], &n = mesh.normals[i];
+        frame.vertices.insert(frame.vertices.end(), {float(p.x), float(p.y), float(p.z), float(object), float(n.x),
+                                                     float(n.y), float(n.z), normal_depth[i]});
+      }
+    auto push = [&](const Color& c, float w) { frame.objects.insert(frame.objects.end(), {c.r, c.g, c.b, w}); };
+    frame.objects.insert(frame.objects.end(), {material_code(material.kind), material.receives_caustics() ? 1.0f : 0.0f,
+                                               material.ior, material.conductor ? 1.0f : 0.0f});
+    push(material.reflectance, 0.0f);
+    push(material.eta, 0.0f);
+    push(material.k, 0.0f);
+    push(material.absorption, 0.0f);
+  }
+
   for (const LightPass& pass : passes_) {
-    const caustic_mapping::ReceiverMap& map = pass.receivers;
-    if (map.resolution == 0) continue;  // no light view: nothing to splat or look up
-    const LightView& view = map.view;
-    auto push = [&](const Vec3& v, double w) { frame.views.insert(frame.views.end(), {v.x, v.y, v.z, static_cast<float>(w)}); };
-    push(view.eye(), view.is_orthographic() ? 1.0 : 0.0);
-    push(view.axis(), view.half_extent());
-    push(view.right(), view.offset_s());
-    push(view.up(), view.offset_t());
-    const int n = map.resolution;
+    if (!pass.plan.valid) continue;  // no light view: nothing to render or look up
+    for (const LightView* view : {&pass.plan.receiver_view, &pass.plan.photon_view}) {
+      auto push = [&](const Vec3& v, double w) { frame.views.insert(frame.views.end(), {v.x, v.y, v.z, static_cast<float>(w)}); };
+      push(view->eye(), view->is_orthographic() ? 1.0 : 0.0);
+      push(view->axis(), view->half_extent());
+      push(view->right(), view->offset_s());
+      push(view->up(), view->offset_t());
+      const auto [near, far] = depth_range(*view, scene.scene_bounds);
+      frame.views.insert(frame.views.end(), {near, far, 0.0f, 0.0f});
+    }
+    const int n = settings_.map_resolution, p = settings_.photon_resolution;
     frame.passes.insert(frame.passes.end(), {static_cast<uint32_t>(n), frame.texel_count(), frame.photon_count(),
-                                             static_cast<uint32_t>(pass.leaving.size())});
-    for (size_t texel = 0; texel < map.depth.size(); ++texel) {
-      const Vec3& p = map.position[texel];
-      const Vec3& normal = map.normal[texel];
-      frame.receivers.insert(frame.receivers.end(), {p.x, p.y, p.z, map.depth[texel], normal.x, normal.y, normal.z, 0.0f});
-    }
+                                             static_cast<uint32_t>(p), static_cast<uint32_t>(pass.object), 0u, 0u, 0u});
+    const Color& strength = pass.plan.strength;
+    frame.strengths.insert(frame.strengths.end(), {strength.r, strength.g, strength.b, 0.0f});
     for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) frame.measures.push_back(static_cast<float>(view.texel_measure(x, y, n)));
-    for (const caustic_mapping::PhotonRay& photon : pass.leaving) {
-      const Vec3 &o = photon.origin, &d = photon.direction;
-      const Color &f = photon.flux, &a = photon.absorption;
-      frame.photons.insert(frame.photons.end(),
-                           {o.x, o.y, o.z, 0.0f, d.x, d.y, d.z, 0.0f, f.r, f.g, f.b, 0.0f, a.r, a.g, a.b, 0.0f});
-    }
+      for (int x = 0; x < n; ++x) frame.measures.push_back(static_cast<float>(pass.plan.receiver_view.texel_measure(x, y, n)));
+    for (int y = 0; y < p; ++y)
+      for (int x = 0; x < p; ++x) frame.photon_measures.push_back(static_cast<float>(pass.plan.photon_view.texel_measure(x, y, p)));
   }
 }
 
@@ -72,18 +141,31 @@ void CausticMappingMethod::update_on_device() {
   }
   CausticMappingFrameData& frame = gpu_->frame;
   fill_frame_data(frame);
-  std::vector<float> landings, arriving;
-  gpu_->splat_ms = gpu_->vulkan->splat(frame, &landings, &arriving);
-  // Counted as the CPU backend counts (count_landing), in photon order.
-  size_t photon = 0;
+  VulkanCausticMapping::Readback readback;
+  gpu_->splat_ms = gpu_->vulkan->splat(frame, &readback);
+  // Counted as the CPU backend counts (count_leaving, count_landing), in photon-buffer texel order.
+  size_t slot = 0;
   for (LightPass& pass : passes_) {
-    if (pass.receivers.resolution == 0) continue;
-    for (size_t i = 0; i < pass.leaving.size(); ++i, ++photon) {
-      const float* landing = &landings[4 * photon];
+    if (!pass.plan.valid) continue;
+    const size_t texels = static_cast<size_t>(settings_.photon_resolution) * settings_.photon_resolution;
+    for (size_t texel = 0; texel < texels; ++texel, ++slot) {
+      const float* record = &readback.photons[16 * slot];
+      caustic_mapping::Outgoing photon;
+      photon.covered = record[3] != 1.0f;
+      photon.second_failed = record[3] == 2.0f;
+      photon.one_interface = record[7] != 0.0f;
+      photon.origin = Vec3(record[0], record[1], record[2]);
+      photon.direction = Vec3(record[4], record[5], record[6]);
+      photon.flux = Color(record[8], record[9], record[10]);
+      photon.not_modelled = record[11];
+      photon.absorption = Color(record[12], record[13], record[14]);
+      caustic_mapping::count_leaving(pass, photon);
+      if (!photon.covered || photon.second_failed) continue;
+      const float* landing = &readback.landings[4 * slot];
       const auto what = static_cast<caustic_mapping::Landing>(static_cast<uint32_t>(landing[2]));
-      const Color flux(arriving[4 * photon], arriving[4 * photon + 1], arriving[4 * photon + 2]);
-      caustic_mapping::count_landing(pass.statistics, pass.leaving[i], what, flux, static_cast<int>(landing[3]));
-      if (what == caustic_mapping::Landing::search_failed) pass.dropped.push_back(static_cast<uint32_t>(i));
+      const Color arriving(readback.arriving[4 * slot], readback.arriving[4 * slot + 1], readback.arriving[4 * slot + 2]);
+      caustic_mapping::count_landing(pass.statistics, pass.leaving.back(), what, arriving, static_cast<int>(landing[3]));
+      if (what == caustic_mapping::Landing::search_failed) pass.dropped.push_back(static_cast<uint32_t>(pass.leaving.size() - 1));
     }
   }
   gpu_->last_render = false;
@@ -113,7 +195,8 @@ void CausticMappingMethod::check_frame_dump(const ParamSet& knobs) const {
 void CausticMappingMethod::dump_frame(const GBuffer& gbuffer, const ParamSet&, const Image& output,
                                       const std::string& folder) const {
   if (settings_.exact) throw InputError("caustic_mapping --dump-frame: intersection: exact has no Vulkan replay");
-  // Both backends keep what the device takes (the passes' maps and leaving photons): made here from them.
+  // What the device takes, from the frame update() saw (its tracer lives until the run's frame ends) and
+  // the passes' plans, which both backends keep.
   CausticMappingFrameData frame;
   fill_frame_data(frame);
   frame.width = static_cast<uint32_t>(gbuffer.width);

@@ -28,9 +28,10 @@ const MethodInfo& CausticMappingMethod::static_info() {
         // Declared after intersection: the device has no exact rays, so setting backend: vulkan with
         // intersection: exact is refused before any work starts.
         ParamSpec::choice("backend", "cpu", {"cpu", "vulkan"},
-                          "where the photons are searched, splatted and looked up: the CPU, or a Vulkan raster "
-                          "pipeline (photon stage, sprites blended into the caustic map, lookup); the light-view "
-                          "passes are the CPU's ray tracer for both",
+                          "where the frame is rendered: the CPU (its ray tracer renders the light views), or a "
+                          "Vulkan raster pipeline (the light views rasterised from the scene's triangles, analytic "
+                          "shapes tessellated; photons; sprites blended into the caustic map; lookup); the CPU "
+                          "fits the light views for both",
                           ParamPhase::frame)
             .only_when("intersection", {"image_space"})
             .unkeyed_at_default(),

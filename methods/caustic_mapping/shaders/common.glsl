@@ -1,6 +1,7 @@
 // caustic_mapping's shaders: the light view and the receiver map, as methods/common/light_view.cpp and
 // methods/caustic_mapping/receiver_search.cpp compute them (the CPU in double where it projects; here
-// float). Record layouts: methods/caustic_mapping/frame_data.h.
+// float). Record layouts: methods/caustic_mapping/frame_data.h. A pass has two views: its caustic map's
+// (2 pass) and its photon buffer's (2 pass + 1).
 
 struct View {
   vec3 eye;
@@ -11,10 +12,11 @@ struct View {
   float offset_s;
   vec3 up;
   float offset_t;
+  float near, far;  // the depth range a light-view pass rasterises
 };
 
 View view_at(uint index) {
-  const uint at = 4u * index;
+  const uint at = 5u * index;
   View view;
   view.eye = views[at].xyz;
   view.orthographic = views[at].w != 0.0;
@@ -24,6 +26,8 @@ View view_at(uint index) {
   view.offset_s = views[at + 2u].w;
   view.up = views[at + 3u].xyz;
   view.offset_t = views[at + 3u].w;
+  view.near = views[at + 4u].x;
+  view.far = views[at + 4u].y;
   return view;
 }
 
@@ -59,9 +63,11 @@ float texel_side(View view, int n, float depth) {
   return view.orthographic ? side : side * depth;
 }
 
-// The receiver map's texel `texel` of the pass whose maps start at `first`.
-vec4 receiver_position(uint first, int texel) { return receivers[2u * (first + uint(texel))]; }
-vec3 receiver_normal(uint first, int texel) { return receivers[2u * (first + uint(texel)) + 1u].xyz; }
+#ifndef NO_RECEIVER_MAP  // a shader without the receivers binding
+// The receiver map's texel `texel` of the n x n pass whose maps start at `first`: the pass's n^2
+// positions (with their depth), then its n^2 normals, as the receiver pass renders them.
+vec4 receiver_position(uint first, int texel) { return receivers[2u * first + uint(texel)]; }
+vec3 receiver_normal(uint first, int n, int texel) { return receivers[2u * first + uint(n * n + texel)].xyz; }
 
 // ReceiverMap::sees: the shadow-map test with its slope-scaled bias.
 bool sees(View view, int n, uint first, vec3 projected, int texel, vec3 point, vec3 normal) {
@@ -72,3 +78,4 @@ bool sees(View view, int n, uint first, vec3 projected, int texel, vec3 point, v
   const float slope = min(20.0, sqrt(max(0.0, 1.0 - cosine * cosine)) / max(cosine, 1e-3));
   return abs(projected.z - depth) <= texel_side(view, n, projected.z) * (1.5 + 2.0 * slope);
 }
+#endif

@@ -34,7 +34,7 @@ void main() {
   vec3 sum = parameters.first_pass != 0u ? vec3(0.0) : irradiance[pixel].xyz;
   const vec4 position = positions[pixel];
   if (position.w != 0.0) {
-    const View view = view_at(parameters.pass);
+    const View view = view_at(2u * parameters.pass);
     const int n = int(parameters.resolution);
     const vec3 point = position.xyz, normal = normals[pixel].xyz;
     vec3 at;

@@ -3,7 +3,8 @@
 // (Shah et al.; methods/caustic_mapping/receiver_search.cpp step by step), takes its hit on the found
 // receiver's plane or at that receiver, and lands where the caustic map's window holds it and the light
 // sees it. Writes per photon (x, y in caustic-map texels, Landing, receiver-map reads) and the flux
-// arriving (after the medium's absorption).
+// arriving (after the medium's absorption). A photon-buffer texel that sent no photon (the leave stage's
+// status, origin.w, not 0) lands nowhere.
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Views { vec4 views[]; };
@@ -24,7 +25,7 @@ layout(push_constant) uniform Parameters {
 
 #include "common.glsl"
 
-const float kLanded = 0.0, kSearchFailed = 1.0, kOutsideMap = 2.0;
+const float kLanded = 0.0, kSearchFailed = 1.0, kOutsideMap = 2.0, kNone = 3.0;
 
 // The texel of the receiver the map holds where `point` projects, or -1.
 int receiver_at(View view, int n, vec3 point) {
@@ -39,9 +40,14 @@ void main() {
   const uint index = gl_GlobalInvocationID.x;
   if (index >= parameters.photon_count) return;
   const uint photon = parameters.first_photon + index;
+  if (photons[4u * photon].w != 0.0) {
+    landings[photon] = vec4(0.0, 0.0, kNone, 0.0);
+    arriving[photon] = vec4(0.0);
+    return;
+  }
   const vec3 origin = photons[4u * photon].xyz, direction = photons[4u * photon + 1u].xyz;
   const vec3 flux = photons[4u * photon + 2u].xyz, absorption = photons[4u * photon + 3u].xyz;
-  const View view = view_at(parameters.pass);
+  const View view = view_at(2u * parameters.pass);
   const int n = int(parameters.resolution);
   const uint first = parameters.first_texel;
   float steps = 1.0;
@@ -58,7 +64,7 @@ void main() {
   }
   // Converged when the receiver found lies on the ray within what a texel spans on it.
   const vec4 found = receiver_position(first, texel);
-  const vec3 receiver = found.xyz, normal = receiver_normal(first, texel);
+  const vec3 receiver = found.xyz, normal = receiver_normal(first, n, texel);
   const vec3 offset = receiver - origin;
   const float along = dot(offset, direction);
   const float off_ray = length(offset - direction * along);
@@ -82,7 +88,7 @@ void main() {
   vec3 at;
   const bool projected = project(view, hit, at);
   const int map_texel = projected ? texel_of(at, n) : -1;
-  if (map_texel < 0 || !sees(view, n, first, at, map_texel, hit, receiver_normal(first, map_texel))) {
+  if (map_texel < 0 || !sees(view, n, first, at, map_texel, hit, receiver_normal(first, n, map_texel))) {
     landings[photon] = vec4(0.0, 0.0, kOutsideMap, steps);
     return;
   }

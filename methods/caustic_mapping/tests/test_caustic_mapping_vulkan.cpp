@@ -1,9 +1,9 @@
-// caustic_mapping's Vulkan backend (backend: vulkan: the photon stage, sprites blended into the caustic
-// map, the lookup; methods/caustic_mapping/vulkan_caustic_mapping.h) against its CPU backend on three
-// scenes (a flat mirror, the glass sphere's two interfaces, a mirror sphere under a point light), with
-// every splat kernel and both hit positions; the statistics both count; the refusal of exact rays on the
-// device; and the dump -> causticbench-gpubench -> gpu-compare round trip. Skipped, saying why, where no
-// Vulkan device exists.
+// caustic_mapping's Vulkan backend (backend: vulkan: the light views rasterised, the leave and photon
+// stages, sprites blended into the caustic map, the lookup; methods/caustic_mapping/vulkan_caustic_mapping.h)
+// against its CPU backend on three scenes (a flat mirror, the glass sphere's two interfaces, a mirror
+// sphere under a point light), with every splat kernel and both hit positions; the statistics both count;
+// the refusal of exact rays on the device; and the dump -> causticbench-gpubench -> gpu-compare round
+// trip. Skipped, saying why, where no Vulkan device exists.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -44,9 +44,25 @@ struct Agreement {
   double relmse, flux;
 };
 
-// Both backends on one scene and knob set: the images agree within caustic_mapping's dump-format bounds
-// (methods/caustic_mapping/frame_replay.cpp; gpu-compare applies the same), and so do their counts.
-void expect_backends_agree(const std::string& scene_text, const std::vector<std::string>& knobs, const std::string& what) {
+// How far the backends may differ. Where the scene's surfaces are triangles to the ray tracer too (a
+// quad mirror over a quad floor), the device repeats the CPU's every step on the same surfaces: only
+// float against double and the rasteriser's order of adding splats part them, and the counts agree to
+// the few photons whose float search reads a neighbouring texel. Where they are curved (spheres), the
+// device rasterises them tessellated (2 x photon_resolution segments): chords inside the sphere and
+// interpolated normals move photons, and the bounds are caustic_mapping's dump-format tolerances
+// (methods/caustic_mapping/frame_replay.cpp, what gpu-compare applies), the counts within half a percent.
+struct Bounds {
+  double relmse, flux, counts, lost_flux;
+};
+const Bounds kSameSurfaces{1e-6, 1e-4, 1e-3, 1e-3};
+Bounds tessellated() {
+  const FrameDumpFormat& format = frame_dump_format("caustic_mapping");
+  return {format.relmse_tolerance, format.flux_tolerance, 5e-3, 3e-3};
+}
+
+// Both backends on one scene and knob set: the images agree within `bounds`, and so do their counts.
+void expect_backends_agree(const std::string& scene_text, const std::vector<std::string>& knobs, const std::string& what,
+                           const Bounds& bounds) {
   const Scene scene = scene_from_yaml(scene_text);
   std::vector<std::string> vulkan_knobs = knobs;
   vulkan_knobs.push_back("backend=vulkan");
@@ -60,23 +76,27 @@ void expect_backends_agree(const std::string& scene_text, const std::vector<std:
   std::string text = what;
   for (const std::string& knob : knobs) text += " " + knob;
   std::printf("%s: vulkan against cpu relMSE %.3g, flux %+.3g\n", text.c_str(), measured.relmse, measured.flux);
-  const FrameDumpFormat& format = frame_dump_format("caustic_mapping");
-  EXPECT_LT(measured.relmse, format.relmse_tolerance) << text;
-  EXPECT_LT(std::abs(measured.flux), format.flux_tolerance) << text;
-  // The photons the device counts as landed, searched in vain or outside the map are the CPU's, but
-  // for the few whose float search reads a neighbouring texel (at most 0.1 % of them).
+  EXPECT_LT(measured.relmse, bounds.relmse) << text;
+  EXPECT_LT(std::abs(measured.flux), bounds.flux) << text;
+  // The photons the device counts (covered texels, landed, receiver-map reads) are the CPU's within the
+  // bounds' share.
   auto counter = [](const FrameResult& result, const std::string& name) {
     for (const auto& [key, value] : result.counters)
       if (key == name) return value;
     return -1.0;
   };
-  EXPECT_EQ(counter(vulkan, "photons"), counter(cpu, "photons")) << text;
+  std::printf("  photons %g / %g, landed %g / %g, reads %g / %g, lost %.4f / %.4f\n", counter(vulkan, "photons"),
+              counter(cpu, "photons"), counter(vulkan, "photons_landed"), counter(cpu, "photons_landed"),
+              counter(vulkan, "receiver_map_reads"), counter(cpu, "receiver_map_reads"),
+              vulkan.lost_flux ? vulkan.lost_flux->fraction : -1.0, cpu.lost_flux ? cpu.lost_flux->fraction : -1.0);
+  EXPECT_NEAR(counter(vulkan, "photons"), counter(cpu, "photons"), bounds.counts * counter(cpu, "photons")) << text;
   EXPECT_GT(counter(cpu, "photons_landed"), 0.0) << text;
-  EXPECT_NEAR(counter(vulkan, "photons_landed"), counter(cpu, "photons_landed"), 1e-3 * counter(cpu, "photons")) << text;
+  EXPECT_NEAR(counter(vulkan, "photons_landed"), counter(cpu, "photons_landed"), bounds.counts * counter(cpu, "photons"))
+      << text;
   EXPECT_NEAR(counter(vulkan, "receiver_map_reads"), counter(cpu, "receiver_map_reads"),
-              1e-3 * counter(cpu, "receiver_map_reads")) << text;
+              bounds.counts * counter(cpu, "receiver_map_reads")) << text;
   ASSERT_TRUE(cpu.lost_flux && vulkan.lost_flux);
-  EXPECT_NEAR(vulkan.lost_flux->fraction, cpu.lost_flux->fraction, 1e-3) << text;
+  EXPECT_NEAR(vulkan.lost_flux->fraction, cpu.lost_flux->fraction, bounds.lost_flux) << text;
 }
 
 }  // namespace
@@ -84,28 +104,30 @@ void expect_backends_agree(const std::string& scene_text, const std::vector<std:
 TEST(CausticMappingVulkan, AgreesWithTheCpuOnAFlatMirrorForEverySplat) {
   SKIP_WITHOUT_VULKAN();
   for (const char* splat : {"splat=point", "splat=gaussian", "splat=variable"})
-    expect_backends_agree(kFlatMirror, {splat, "photon_resolution=128", "caustic_map_resolution=128"}, "flat mirror");
+    expect_backends_agree(kFlatMirror, {splat, "photon_resolution=128", "caustic_map_resolution=128"}, "flat mirror",
+                          kSameSurfaces);
   expect_backends_agree(kFlatMirror, {"hit_position=texel", "photon_resolution=128", "caustic_map_resolution=128"},
-                        "flat mirror");
+                        "flat mirror", kSameSurfaces);
 }
 
 TEST(CausticMappingVulkan, AgreesWithTheCpuOnTheGlassSphere) {
   SKIP_WITHOUT_VULKAN();
-  expect_backends_agree(kSmallGlassSphere, {"photon_resolution=128", "caustic_map_resolution=128"}, "glass sphere");
+  expect_backends_agree(kSmallGlassSphere, {"photon_resolution=128", "caustic_map_resolution=128"}, "glass sphere",
+                        tessellated());
   expect_backends_agree(kSmallGlassSphere,
                         {"photon_resolution=128", "caustic_map_resolution=96", "splat=gaussian", "splat_radius=3",
                          "search_iterations=2", "refraction=one_interface"},
-                        "glass sphere");
+                        "glass sphere", tessellated());
 }
 
 TEST(CausticMappingVulkan, AgreesWithTheCpuUnderAPointLight) {
   SKIP_WITHOUT_VULKAN();
   expect_backends_agree(kMirrorSpherePointLight, {"photon_resolution=128", "caustic_map_resolution=128"},
-                        "mirror sphere, point light");
+                        "mirror sphere, point light", tessellated());
   expect_backends_agree(kMirrorSpherePointLight,
                         {"photon_resolution=96", "caustic_map_resolution=128", "splat=variable", "splat_photons=4",
                          "max_splat_radius=4", "search_iterations=12"},
-                        "mirror sphere, point light");
+                        "mirror sphere, point light", tessellated());
 }
 
 // The device has no exact rays: intersection: exact with backend: vulkan is refused when the knobs are
@@ -117,9 +139,9 @@ TEST(CausticMappingVulkan, ExactRaysOnTheDeviceAreAnInputError) {
   EXPECT_NE(message.find("intersection is image_space"), std::string::npos) << message;
 }
 
-// causticbench dumps a caustic_mapping frame (the CPU backend's), causticbench-gpubench replays it (photon
-// stage, splats, lookup) on the first Vulkan device, causticbench gpu-compare checks the two; a replay
-// output off by a tenth of a percent disagrees, and a damaged dump names its file.
+// causticbench dumps a caustic_mapping frame (the CPU backend's), causticbench-gpubench replays it (light
+// views, leave and photon stages, splats, lookup) on the first Vulkan device, causticbench gpu-compare
+// checks the two; a replay output off by a percent disagrees, and a damaged dump names its file.
 TEST(CausticMappingVulkan, DumpReplayCompareRoundTrip) {
   SKIP_WITHOUT_VULKAN();
   const causticbench::testing::TemporaryFolder folder("caustic_mapping_dump_test");
@@ -142,19 +164,20 @@ TEST(CausticMappingVulkan, DumpReplayCompareRoundTrip) {
   std::stringstream timings;
   timings << std::ifstream(dump + "/gpu_timings.json").rdbuf();
   EXPECT_NE(timings.str().find("\"method\": \"caustic_mapping\""), std::string::npos) << timings.str();
-  EXPECT_NE(timings.str().find("\"photons\": " + std::to_string(frame.photon_count())), std::string::npos) << timings.str();
+  EXPECT_NE(timings.str().find("\"photon_buffer_texels\": " + std::to_string(frame.photon_count())), std::string::npos)
+      << timings.str();
   code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
   EXPECT_EQ(code, 0) << output;
   EXPECT_NE(output.find("): agree"), std::string::npos) << output;
   std::vector<float> wrong = read_floats(dump + "/vulkan_irradiance.bin");
-  for (float& value : wrong) value *= 0.999f;
+  for (float& value : wrong) value *= 0.99f;
   write_floats(dump + "/vulkan_irradiance.bin", wrong);
   code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
   EXPECT_EQ(code, 1) << output;
-  std::vector<float> photons = read_floats(dump + "/photons.bin");
-  photons.resize(photons.size() - 3);
-  write_floats(dump + "/photons.bin", photons);
+  std::vector<float> vertices = read_floats(dump + "/vertices.bin");
+  vertices.resize(vertices.size() - 8);
+  write_floats(dump + "/vertices.bin", vertices);
   code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
   EXPECT_EQ(code, 2) << output;
-  EXPECT_NE(output.find("photons.bin is not whole photons"), std::string::npos) << output;
+  EXPECT_NE(output.find("vertices.bin is not whole triangles"), std::string::npos) << output;
 }
