@@ -16,6 +16,23 @@
 
 namespace causticbench::testing {
 
+const char* const kMirrorSpherePointLight = R"(
+camera: {position: [0, 2.5, 3.0], look_at: [0, 0, 0], fov_degrees: 50, resolution: [48, 48]}
+lights: [{type: point, position: [0.3, 2.0, 0.2], intensity: 5}]
+objects:
+  - shape: {type: quad, size: [8, 8]}
+    material: {type: diffuse, albedo: 0.8}
+  - shape: {type: sphere, radius: 0.4}
+    material: {type: mirror, reflectance: 0.9}
+    transform: {translate: [0, 0.6, 0]}
+)";
+
+double counter_value(const FrameResult& result, const std::string& name) {
+  for (const auto& [key, value] : result.counters)
+    if (key == name) return value;
+  return -1.0;
+}
+
 const char* const kFlatMirror = R"(
 camera: {type: orthographic, position: [1.5, 1.0, 0], look_at: [1.5, 0, 0], up: [0, 0, 1], view_height: 1.2, resolution: [96, 96]}
 lights: [{type: directional, direction: [1, -1, 0], irradiance: 2}]

@@ -24,6 +24,9 @@ extern const char* const kSmallGlassSphere;
 // exactly (1.2 / 96)^2 and the pixels' sum is the flux.
 extern const char* const kFlatMirror;
 inline constexpr double kBeamIrradiance = 1.8;
+// A mirror sphere (radius 0.4, reflectance 0.9) under a point light close above it, seen in perspective,
+// 48 x 48 pixels: a perspective light view and a fan of grazing rays (the GPU backends' agreement cases).
+extern const char* const kMirrorSpherePointLight;
 inline constexpr double kBeamHalfX = 0.3 * 0.38268343, kBeamHalfZ = 0.3;
 
 // Reference knobs for the small scenes' method-against-reference tests: 6 x 200,000 photons, seed 7
@@ -31,6 +34,9 @@ inline constexpr double kBeamHalfX = 0.3 * 0.38268343, kBeamHalfZ = 0.3;
 extern const std::vector<std::string> kSmallSceneReferenceKnobs;
 
 Scene scene_from_yaml(const std::string& yaml, const std::string& name = "test.yaml");
+
+// The value of a run's counter `name`, or -1 where the method has none.
+double counter_value(const FrameResult& result, const std::string& name);
 
 // Runs `method` with the given "key=value" knobs on one frame.
 FrameResult render(const Scene& scene, const std::string& method, const std::vector<std::string>& knobs, int frame = 0);

@@ -44,6 +44,17 @@ const MethodInfo& CausticVolumeMethod::static_info() {
                           "the surface is clear (beyond the paper; one ray a point and sheet)",
                           ParamPhase::render)
             .unkeyed_at_default(),
+        // Declared after occlusion: the device traces no shadow rays, so backend: vulkan with occlusion:
+        // shadow_rays is refused before any work starts. Added after runs were recorded: cpu stays out of
+        // their keys.
+        ParamSpec::choice("backend", "cpu", {"cpu", "vulkan"},
+                          "where the receiver points are tested: the CPU (each volume against the points of its "
+                          "footprint's rows), or a Vulkan raster pipeline (the footprints rasterised over the image, "
+                          "each fragment's point tested exactly in float, the light blended additively); the volumes "
+                          "are the CPU's for both",
+                          ParamPhase::render)
+            .only_when("occlusion", {"none"})
+            .unkeyed_at_default(),
     };
     Capabilities& c = m.capabilities;
     c.reflection = c.refraction = true;

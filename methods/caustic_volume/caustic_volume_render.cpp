@@ -41,6 +41,7 @@ Image CausticVolumeMethod::render(const GBuffer& gbuffer, const ParamSet& render
   const caustic_volume::Intensity intensity = render.text("intensity") == "constant"
                                                   ? caustic_volume::Intensity::constant
                                                   : caustic_volume::Intensity::interpolated;
+  if (render.has("backend") && render.text("backend") == "vulkan") return render_on_device(gbuffer, intensity);
   const bool shadow_rays = render.text("occlusion") == "shadow_rays" && tracer_ != nullptr;
   Image result(gbuffer.width, gbuffer.height, 3);
   constexpr int kBand = 8;  // rows a task; each pixel adds its volumes in their order: deterministic

@@ -20,6 +20,7 @@
 
 using namespace causticbench;
 using causticbench::testing::kFlatMirror;
+using causticbench::testing::kMirrorSpherePointLight;
 using causticbench::testing::kSmallGlassSphere;
 using causticbench::testing::render;
 using causticbench::testing::scene_from_yaml;
@@ -27,18 +28,6 @@ using causticbench::testing::scene_from_yaml;
 namespace {
 
 #define SKIP_WITHOUT_VULKAN() CAUSTICBENCH_SKIP_WITHOUT_VULKAN("caustic_mapping's backend: vulkan")
-
-// A mirror sphere under a point light close above it: a perspective light view, a fan of grazing rays.
-const char* const kMirrorSpherePointLight = R"(
-camera: {position: [0, 2.5, 3.0], look_at: [0, 0, 0], fov_degrees: 50, resolution: [48, 48]}
-lights: [{type: point, position: [0.3, 2.0, 0.2], intensity: 5}]
-objects:
-  - shape: {type: quad, size: [8, 8]}
-    material: {type: diffuse, albedo: 0.8}
-  - shape: {type: sphere, radius: 0.4}
-    material: {type: mirror, reflectance: 0.9}
-    transform: {translate: [0, 0.6, 0]}
-)";
 
 struct Agreement {
   double relmse, flux;
@@ -80,11 +69,7 @@ void expect_backends_agree(const std::string& scene_text, const std::vector<std:
   EXPECT_LT(std::abs(measured.flux), bounds.flux) << text;
   // The photons the device counts (covered texels, landed, receiver-map reads) are the CPU's within the
   // bounds' share.
-  auto counter = [](const FrameResult& result, const std::string& name) {
-    for (const auto& [key, value] : result.counters)
-      if (key == name) return value;
-    return -1.0;
-  };
+  const auto counter = causticbench::testing::counter_value;
   std::printf("  photons %g / %g, landed %g / %g, reads %g / %g, lost %.4f / %.4f\n", counter(vulkan, "photons"),
               counter(cpu, "photons"), counter(vulkan, "photons_landed"), counter(cpu, "photons_landed"),
               counter(vulkan, "receiver_map_reads"), counter(cpu, "receiver_map_reads"),

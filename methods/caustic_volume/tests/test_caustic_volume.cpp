@@ -16,31 +16,20 @@
 #include "core/tracer.h"
 #include "metrics/flip.h"
 #include "methods/caustic_volume/volume.h"
+#include "methods/caustic_volume/tests/scenes.h"
 #include "tests/test_support.h"
 
 using namespace causticbench;
 using causticbench::testing::kBeamHalfX;
 using causticbench::testing::kBeamHalfZ;
 using causticbench::testing::kFlatMirror;
+using causticbench::testing::kRingFromAbove;
 using causticbench::testing::render;
 using causticbench::testing::scene_from_yaml;
 namespace cv = causticbench::caustic_volume;
 
 namespace {
 
-
-// The ring of Wand's Fig. 4 (configs/scenes/ring.yaml, a plain mirror) seen straight from above, so that
-// every pixel of the table has the same area: the volumes' light all falls on the table (a vertical wall
-// keeps the light's downward travel).
-const char* const kRingFromAbove = R"(
-camera: {type: orthographic, position: [0, 5, 0.3], look_at: [0, 0, 0.3], up: [0, 0, 1], view_height: 4.4, resolution: [128, 128]}
-lights: [{type: directional, direction: [0.0, -0.5, 0.8660254], irradiance: 3.0}]
-objects:
-  - shape: {type: quad, size: [8, 8]}
-    material: {type: diffuse, albedo: 0.75}
-  - shape: {type: ring, radius: 1.0, height: 0.5}
-    material: {type: mirror, reflectance: 0.9}
-)";
 
 double pixel_area(const Scene& scene) {
   const double side = scene.camera.view_height / scene.camera.height;
