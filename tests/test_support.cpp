@@ -27,6 +27,12 @@ objects:
     transform: {translate: [0, 0.6, 0]}
 )";
 
+glm::dvec3 random_direction(Random& random) {
+  const double z = 1.0 - 2.0 * random.uniform_double(), phi = 2.0 * kPiDouble * random.uniform_double();
+  const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+  return {s * std::cos(phi), s * std::sin(phi), z};
+}
+
 double counter_value(const FrameResult& result, const std::string& name) {
   for (const auto& [key, value] : result.counters)
     if (key == name) return value;

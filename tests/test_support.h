@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/sampling.h"
 #include "methods/lifecycle.h"
 #include "methods/method_runner.h"
 
@@ -34,6 +35,9 @@ inline constexpr double kBeamHalfX = 0.3 * 0.38268343, kBeamHalfZ = 0.3;
 extern const std::vector<std::string> kSmallSceneReferenceKnobs;
 
 Scene scene_from_yaml(const std::string& yaml, const std::string& name = "test.yaml");
+
+// A direction uniform over the unit sphere (z uniform in [-1, 1], azimuth uniform), in double.
+glm::dvec3 random_direction(Random& random);
 
 // The value of a run's counter `name`, or -1 where the method has none.
 double counter_value(const FrameResult& result, const std::string& name);

@@ -6,6 +6,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstddef>
+#include <limits>
 #include <vector>
 
 #include "methods/common/volume_layout.h"
@@ -24,6 +27,11 @@ class GridLayout final : public VolumeLayout {
   Stencil stencil(const Vec3& position) const override;
   size_t memory_bytes() const override { return 0; }
 
+  // Calls visit(cell index, cell coordinates (3 ints), length) for each cell the segment crosses inside
+  // the cube, in order along it (a 3D DDA), with the exact length of segment inside the cell.
+  template <class Visit>
+  void walk(const PathSegment& segment, Visit&& visit) const;
+
   int resolution() const { return resolution_; }
   float cell_size() const { return cell_; }
   Vec3 cell_center(int x, int y, int z) const;
@@ -37,6 +45,60 @@ class GridLayout final : public VolumeLayout {
   // along a track, looked up rather than recomputed at every cell the DDA visits.
   std::array<std::vector<float>, 3> axis_offsets_;
 };
+
+template <class Visit>
+void GridLayout::walk(const PathSegment& segment, Visit&& visit) const {
+  const Vec3 maximum = minimum_ + Vec3(2.0f * radius_);
+  float t_enter = 0.0f, t_exit = segment.length;
+  for (int axis = 0; axis < 3; ++axis) {
+    const float d = segment.direction[axis], o = segment.origin[axis];
+    if (d == 0.0f) {
+      if (o < minimum_[axis] || o >= maximum[axis]) return;
+      continue;
+    }
+    float t0 = (minimum_[axis] - o) / d, t1 = (maximum[axis] - o) / d;
+    if (t0 > t1) std::swap(t0, t1);
+    t_enter = std::max(t_enter, t0);
+    t_exit = std::min(t_exit, t1);
+  }
+  if (!(t_exit > t_enter)) return;
+  int cell[3], step[3];
+  float t_next[3], t_delta[3];
+  const Vec3 start = segment.origin + segment.direction * t_enter;
+  for (int axis = 0; axis < 3; ++axis) {
+    const float d = segment.direction[axis];
+    const float local = (start[axis] - minimum_[axis]) / cell_;
+    cell[axis] = std::clamp(static_cast<int>(std::floor(local)), 0, resolution_ - 1);
+    if (d > 0.0f) {
+      step[axis] = 1;
+      t_delta[axis] = cell_ / d;
+      t_next[axis] = (minimum_[axis] + (cell[axis] + 1) * cell_ - segment.origin[axis]) / d;
+    } else if (d < 0.0f) {
+      step[axis] = -1;
+      t_delta[axis] = -cell_ / d;
+      t_next[axis] = (minimum_[axis] + cell[axis] * cell_ - segment.origin[axis]) / d;
+    } else {
+      step[axis] = 0;
+      t_delta[axis] = std::numeric_limits<float>::infinity();
+      t_next[axis] = std::numeric_limits<float>::infinity();
+    }
+  }
+  const size_t row = static_cast<size_t>(resolution_), slice = row * row;
+  const ptrdiff_t index_step[3] = {step[0], step[1] * static_cast<ptrdiff_t>(row), step[2] * static_cast<ptrdiff_t>(slice)};
+  size_t cell_index = index(cell[0], cell[1], cell[2]);
+  float t = t_enter;
+  while (t < t_exit) {
+    int axis = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
+    const float t_end = std::min(t_next[axis], t_exit);
+    if (t_end > t) visit(cell_index, static_cast<const int*>(cell), t_end - t);
+    t = t_end;
+    if (t >= t_exit) break;
+    cell[axis] += step[axis];
+    if (cell[axis] < 0 || cell[axis] >= resolution_) break;
+    cell_index = static_cast<size_t>(static_cast<ptrdiff_t>(cell_index) + index_step[axis]);
+    t_next[axis] += t_delta[axis];
+  }
+}
 
 inline Stencil GridLayout::stencil(const Vec3& position) const {
   Stencil stencil;

@@ -103,12 +103,8 @@ int coefficient_count(int bands) {
 void evaluate(int bands, const Vec3& d, float* out) { evaluate_basis<float>(bands, d.x, d.y, d.z, out); }
 void evaluate(int bands, const glm::dvec3& d, double* out) { evaluate_basis<double>(bands, d.x, d.y, d.z, out); }
 
-SphereQuadrature product_quadrature(int bands) {
-  check_bands(bands);
-  // Gauss-Legendre with g nodes is exact to degree 2g - 1 in z; the uniform azimuths sum e^(i k phi)
-  // exactly for |k| below their count; a polynomial of degree 2 bands needs both up to 2 bands.
-  const int nodes = bands + 1, azimuths = 2 * bands + 1;
-  SphereQuadrature quadrature;
+void gauss_legendre(int nodes, std::vector<double>& abscissas, std::vector<double>& weights) {
+  abscissas.clear(), weights.clear();
   for (int i = 0; i < nodes; ++i) {
     double z = std::cos(kPiDouble * (i + 0.75) / (nodes + 0.5)), derivative = 1.0;
     for (int iteration = 0; iteration < 100; ++iteration) {
@@ -122,7 +118,22 @@ SphereQuadrature product_quadrature(int bands) {
       z -= step;
       if (std::fabs(step) < 1e-16) break;
     }
-    const double weight = 2.0 / ((1.0 - z * z) * derivative * derivative) * (2.0 * kPiDouble / azimuths);
+    abscissas.push_back(z);
+    weights.push_back(2.0 / ((1.0 - z * z) * derivative * derivative));
+  }
+}
+
+SphereQuadrature product_quadrature(int bands) {
+  check_bands(bands);
+  // Gauss-Legendre with g nodes is exact to degree 2g - 1 in z; the uniform azimuths sum e^(i k phi)
+  // exactly for |k| below their count; a polynomial of degree 2 bands needs both up to 2 bands.
+  const int nodes = bands + 1, azimuths = 2 * bands + 1;
+  std::vector<double> zs, z_weights;
+  gauss_legendre(nodes, zs, z_weights);
+  SphereQuadrature quadrature;
+  for (int i = 0; i < nodes; ++i) {
+    const double z = zs[static_cast<size_t>(i)];
+    const double weight = z_weights[static_cast<size_t>(i)] * (2.0 * kPiDouble / azimuths);
     const double sine = std::sqrt(std::max(0.0, 1.0 - z * z));
     for (int j = 0; j < azimuths; ++j) {
       const double phi = 2.0 * kPiDouble * j / azimuths;

@@ -31,6 +31,10 @@ inline int coefficient_index(int l, int m) { return l * l + l + m; }
 void evaluate(int bands, const Vec3& unit_direction, float* out);
 void evaluate(int bands, const glm::dvec3& unit_direction, double* out);
 
+// The Gauss-Legendre rule of `nodes` nodes on [-1, 1] (exact for polynomials of degree 2 nodes - 1):
+// its abscissas, descending, and weights (summing to 2), by Newton's iteration on P_nodes.
+void gauss_legendre(int nodes, std::vector<double>& abscissas, std::vector<double>& weights);
+
 // Integrates polynomials on the sphere of degree up to 2 bands exactly (so every product of two basis
 // functions): Gauss-Legendre in cos(theta) with bands + 1 nodes times 2 bands + 1 uniform azimuths.
 // The weights sum to 4 pi. Double precision throughout, so that the tests can hold it to 1e-10.

@@ -24,47 +24,23 @@
 #include <glm/mat3x3.hpp>
 
 #include "core/light.h"
+#include "methods/common/environment_quadrature.h"
 #include "methods/common/geodesic.h"
 #include "methods/common/stored_values.h"
 
 namespace causticbench::lpi {
 
-// Lights that bring light from a spread of directions: an HDR map or the procedural Gaussian spot.
-inline bool is_environment_light(LightKind kind) {
-  return kind == LightKind::environment_image || kind == LightKind::gaussian_spot;
-}
-
-// A posed environment light as points on the sphere of directions towards it (world space), each
-// with the radiance there times its cell's solid angle: the irradiance a directional light from that
-// cell would bring. Points of zero radiance are left out, so the map's dark parts cost nothing and
-// reach no light sample.
-struct EnvironmentQuadrature {
-  std::vector<Vec3> directions;
-  std::vector<glm::dvec3> irradiance;
-  glm::dvec3 total() const;
-};
-
-// Cells of at most `cell_angle` radians across. An image map: every texel (over which the map is
-// constant) cut into n x n equal solid angles, n = ceil(texel size / cell_angle), so the sum is exact
-// for the map and converges for the hat functions. The Gaussian spot: rings about its axis out to
-// where the radiance beyond holds 1e-6 of its power (5.26 sigma), at most sigma / 8 or cell_angle
-// wide, each ring's radial integral by Simpson's rule, cut into azimuth cells of at most cell_angle.
-EnvironmentQuadrature environment_quadrature(const LightFrame& light, double cell_angle);
-
-// The cell size that resolves a set's hat functions (an eighth of its longest edge), and the
-// spherical harmonics of `bands` bands (a sixteenth of pi / bands). Tested to converge: a weight is
+// The cell size that resolves a set's hat functions (an eighth of its longest edge); the harmonics' is
+// harmonic_quadrature_angle (methods/common/environment_quadrature.h). Tested to converge: a weight is
 // then within about 5e-3 of its own value, 5e-4 of the map's total (methods/lpi/tests/test_lpi_environment.cpp).
 // Real maps' texels are mostly finer than that already (the forest's 0.35 degrees): one point each.
 double hat_quadrature_angle(const SphericalMesh& mesh);
-double harmonic_quadrature_angle(int bands);
 
 // Per point of `mesh`: W_s, the quadrature's irradiance times the point's hat function, each
 // direction taken into build space by `to_build` (then normalised, as a directional light's).
 // Summed in fixed chunks in order: the same result for any thread count.
 std::vector<glm::dvec3> hat_weights(const SphericalMesh& mesh, const EnvironmentQuadrature& quadrature,
                                     const glm::mat3& to_build);
-// Per coefficient (spherical_harmonics.h order): l_k, the quadrature's irradiance times Y_k.
-std::vector<glm::dvec3> harmonic_weights(int bands, const EnvironmentQuadrature& quadrature, const glm::mat3& to_build);
 
 // One block of float32 values: the sum over blocks b of weights[b] (per colour channel) times block
 // b. Blocks of zero weight are skipped. Paper orientation: channel c is colour c; vector: channels

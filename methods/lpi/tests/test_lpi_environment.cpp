@@ -116,7 +116,7 @@ TEST(LpiEnvironment, UniformMapWeightsSumToFourPiL) {
     for (const auto& [level, at] : {std::pair{0, lpi::SampleAt::vertices}, std::pair{2, lpi::SampleAt::vertices},
                                     std::pair{1, lpi::SampleAt::faces}}) {
       const lpi::LightSampleSet set = lpi::geodesic_samples(level, at);
-      const lpi::EnvironmentQuadrature quadrature = lpi::environment_quadrature(posed, lpi::hat_quadrature_angle(*set.mesh));
+      const EnvironmentQuadrature quadrature = environment_quadrature(posed, lpi::hat_quadrature_angle(*set.mesh));
       const std::vector<glm::dvec3> weights = lpi::hat_weights(*set.mesh, quadrature, to_build);
       glm::dvec3 sum(0.0);
       for (const glm::dvec3& w : weights) sum += w;
@@ -124,7 +124,7 @@ TEST(LpiEnvironment, UniformMapWeightsSumToFourPiL) {
       if (level == 0 && at == lpi::SampleAt::vertices) {
         const double share = 4.0 * kPiDouble / 12.0;
         const std::vector<glm::dvec3> finer = lpi::hat_weights(
-            *set.mesh, lpi::environment_quadrature(posed, lpi::hat_quadrature_angle(*set.mesh) / 4.0), to_build);
+            *set.mesh, environment_quadrature(posed, lpi::hat_quadrature_angle(*set.mesh) / 4.0), to_build);
         double error = 0.0, finer_error = 0.0;
         for (size_t s = 0; s < weights.size(); ++s) {
           error = std::max(error, std::fabs(weights[s].y - share) / share);
@@ -136,8 +136,8 @@ TEST(LpiEnvironment, UniformMapWeightsSumToFourPiL) {
         EXPECT_LT(finer_error, 5e-4);
       }
     }
-    const lpi::EnvironmentQuadrature quadrature = lpi::environment_quadrature(posed, lpi::harmonic_quadrature_angle(5));
-    const std::vector<glm::dvec3> harmonics = lpi::harmonic_weights(5, quadrature, to_build);
+    const EnvironmentQuadrature quadrature = environment_quadrature(posed, harmonic_quadrature_angle(5));
+    const std::vector<glm::dvec3> harmonics = harmonic_weights(5, quadrature, to_build);
     const double l00 = radiance.g * std::sqrt(4.0 * kPiDouble);
     EXPECT_NEAR(harmonics[0].y, l00, 1e-6 * l00);
     double off = 0.0;
@@ -160,11 +160,11 @@ TEST(LpiEnvironment, WeightsConvergeWithTheQuadrature) {
   const double chosen = lpi::hat_quadrature_angle(*set.mesh);
   for (const Light* light : {&coarse, &spot}) {
     const LightFrame posed = pose_light(*light, 0.0);
-    auto weights_at = [&](double cell) { return lpi::hat_weights(*set.mesh, lpi::environment_quadrature(posed, cell), turn()); };
+    auto weights_at = [&](double cell) { return lpi::hat_weights(*set.mesh, environment_quadrature(posed, cell), turn()); };
     const std::vector<double> cells = {4.0 * chosen, 2.0 * chosen, chosen, chosen / 4.0};
     std::vector<std::vector<glm::dvec3>> results;
     for (double cell : cells) results.push_back(weights_at(cell));
-    const double total = lpi::environment_quadrature(posed, chosen).total().x;
+    const double total = environment_quadrature(posed, chosen).total().x;
     auto change = [&](size_t a, size_t b) {
       double most = 0.0;
       for (size_t s = 0; s < results[a].size(); ++s) most = std::max(most, std::fabs(results[a][s].x - results[b][s].x));
