@@ -1,100 +1,29 @@
 #include "methods/lpi/volume_radius.h"
 
-#include <algorithm>
 #include <cmath>
-#include <memory>
-
-#include <fmt/format.h>
 
 namespace causticbench::lpi {
 
 namespace {
 
-// The probes' seed: fixed, so that auto chooses the same ball in every process (the build's key holds it).
-constexpr uint64_t kProbeSeed = 0x5eedba11;
-
-// At most kProbedFrames of `frames`, evenly spread, first and last included.
-std::vector<int> probed_frames(const std::vector<int>& frames) {
-  if (frames.size() <= kProbedFrames) return frames;
-  std::vector<int> chosen;
-  for (size_t k = 0; k < kProbedFrames; ++k)
-    chosen.push_back(frames[k * (frames.size() - 1) / (kProbedFrames - 1)]);
-  chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
-  return chosen;
+// Cells (or shells) the storage puts across the ball's diameter.
+double cells_across(const VolumeSettings& settings) {
+  switch (settings.storage) {
+    case StorageKind::grid:
+    case StorageKind::sh: return settings.grid_resolution;
+    case StorageKind::multires: return std::ldexp(1.0, settings.multires_depth);
+    case StorageKind::shells: return 2.0 * settings.shell_count;
+  }
+  return 0.0;
 }
 
 }  // namespace
 
-double volume_radius_cap(const VolumeSettings& settings) {
-  double cells = 0.0;  // cells (or shells) across the ball's diameter
-  switch (settings.storage) {
-    case StorageKind::grid:
-    case StorageKind::sh: cells = settings.grid_resolution; break;
-    case StorageKind::multires: cells = std::ldexp(1.0, settings.multires_depth); break;
-    case StorageKind::shells: cells = 2.0 * settings.shell_count; break;
-  }
-  // The object's bounding ball (2 radii across) spans at least 8 of the 2R / cells wide cells.
-  return std::max(3.0, cells / 8.0);
-}
-
-CausticReach frame_reach(const SceneFrame& frame, const Tracer& tracer, int object, const BoundingSphere& build_bounds) {
-  const BuildSpaceMap map = build_space_map(frame.scene->objects[object], frame.frame);
-  return probe_caustic_reach(frame, tracer, object, map, build_bounds, kProbePhotons, kProbeSeed);
-}
+double volume_radius_cap(const VolumeSettings& settings) { return ball_radius_cap(cells_across(settings)); }
 
 VolumeRadius choose_volume_radius(const PrepareContext& context, int object, const BoundingSphere& build_bounds,
                                   const VolumeSettings& settings) {
-  VolumeRadius chosen;
-  if (settings.volume_radius > 0.0) {
-    chosen.radii = settings.volume_radius;
-    chosen.reason = fmt::format("volume_radius: {} (set)", settings.volume_radius);
-    return chosen;
-  }
-  double needed = 0.0;
-  int frames_with_caustic = 0;
-  std::vector<CausticReach> reaches;
-  for (int index : probed_frames(context.frames)) {
-    std::unique_ptr<SceneFrame> posed;
-    std::unique_ptr<Tracer> own_tracer;
-    const SceneFrame* frame = &context.rest;
-    const Tracer* tracer = &context.tracer;
-    if (index != static_cast<int>(context.rest.frame)) {
-      posed = std::make_unique<SceneFrame>(context.scene, index);
-      own_tracer = std::make_unique<Tracer>(*posed);
-      frame = posed.get();
-      tracer = own_tracer.get();
-    }
-    const CausticReach reach = frame_reach(*frame, *tracer, object, build_bounds);
-    if (!(reach.total_flux > 0.0)) continue;
-    ++frames_with_caustic;
-    needed = std::max(needed, reach.radius_holding(kHeldFraction));
-    reaches.push_back(reach);
-  }
-  const double cap = volume_radius_cap(settings);
-  if (frames_with_caustic == 0) {
-    chosen.radii = 3.0;
-    chosen.reason = fmt::format("volume_radius: auto; no probe photon of the {} probed frame(s) met a receiver after "
-                                "the object: the old default of 3 bounding radii",
-                                probed_frames(context.frames).size());
-    return chosen;
-  }
-  chosen.needed = needed * kRadiusMargin;
-  // Never inside the object's own bounding ball: its caustic inside glass is part of what lpi stores.
-  chosen.radii = std::max(1.0 * kRadiusMargin, chosen.needed);
-  if (chosen.radii > cap) {
-    chosen.capped = true;
-    chosen.radii = cap;
-    for (const CausticReach& reach : reaches) chosen.lost_at_cap = std::max(chosen.lost_at_cap, reach.fraction_beyond(cap));
-  }
-  chosen.reason = fmt::format(
-      "volume_radius: auto; {:.0f} % of the caustic flux of {} probe photons per frame ({} frame(s)) first meets a "
-      "receiver within {:.3g} bounding radii, times {} margin: {:.3g}{}",
-      100.0 * kHeldFraction, kProbePhotons, frames_with_caustic, needed, kRadiusMargin, chosen.needed,
-      chosen.capped ? fmt::format(", capped at {:.3g}, the largest ball this storage resolves (8 cells across the "
-                                  "object); {:.1f} % of the caustic lands beyond it (lost_flux)",
-                                  cap, 100.0 * chosen.lost_at_cap)
-                    : "");
-  return chosen;
+  return choose_ball_radius(context, object, build_bounds, settings.volume_radius, cells_across(settings));
 }
 
 }  // namespace causticbench::lpi

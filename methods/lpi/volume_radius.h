@@ -1,47 +1,19 @@
-// The size of an object's sampled ball: `volume_radius: auto` derives it from where the object's caustic
-// first meets a receiver in the rendered frames (methods/common/caustic_reach.h), and every frame
-// measures the flux that lands outside the ball the run used (CausticMethod::lost_flux). Decisions and
-// their reasons: methods/lpi/README.md, "The sampled ball".
+// lpi's sampled ball: methods/common/ball_radius.h, with the cells its storage puts across the ball.
+// Decisions and their reasons: methods/lpi/README.md, "The sampled ball".
 #pragma once
 
-#include <string>
-#include <vector>
-
-#include "methods/common/caustic_reach.h"
+#include "methods/common/ball_radius.h"
 #include "methods/lpi/precompute.h"
-#include "methods/method.h"
 
 namespace causticbench::lpi {
 
-// Probe photons per object and probed frame; at most kProbedFrames frames, spread over those rendered.
-inline constexpr uint64_t kProbePhotons = 20000;
-inline constexpr size_t kProbedFrames = 8;
-// auto: the ball holds this fraction of the probes' first-receiver flux in every probed frame, times the
-// margin. Not all of it: a glass object's Fresnel reflections spread a few per cent of its flux thinly
-// over every receiver in reach (4.5 % beyond 3 radii on a 6 m floor under a 0.4 m ball), and a grid
-// stretched to hold them loses the resolution the focus needs (relMSE 0.006 at 3 radii, 0.025 at 6,
-// grid 48). 98 % keeps auto's own loss under the 5 % at which a run is warned about.
-inline constexpr double kHeldFraction = 0.98;
-inline constexpr double kRadiusMargin = 1.1;
+using VolumeRadius = BallRadius;
 
-struct VolumeRadius {
-  double radii = 3.0;   // the ball's radius used, in bounding radii
-  double needed = 0.0;  // auto: what the caustic asked for before the cap (0: a number was set)
-  bool capped = false;
-  double lost_at_cap = 0.0;  // capped: the largest fraction over the probed frames beyond the cap
-  std::string reason;   // for the run record
-};
-
-// The largest ball auto chooses at these settings: one whose cells (grid, sh, multires) or shell
-// spacing still resolve the object, at least 8 across its bounding ball; never below 3, the old default.
+// The largest ball auto chooses at these settings (ball_radius_cap of the cells or shells across it).
 double volume_radius_cap(const VolumeSettings& settings);
 
-// The ball for `object` (a scene index; `build_bounds` its bounding sphere in build space): the number
-// set, or with auto (settings.volume_radius == 0) what the probes over context's frames need, capped.
+// The ball for `object`: the number set, or with auto (settings.volume_radius == 0) what the probes need.
 VolumeRadius choose_volume_radius(const PrepareContext& context, int object, const BoundingSphere& build_bounds,
                                   const VolumeSettings& settings);
-
-// The probes of one frame for `object`.
-CausticReach frame_reach(const SceneFrame& frame, const Tracer& tracer, int object, const BoundingSphere& build_bounds);
 
 }  // namespace causticbench::lpi
