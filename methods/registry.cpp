@@ -6,6 +6,7 @@
 
 #include "methods/caustic_mapping/caustic_mapping.h"
 #include "methods/caustic_volume/caustic_volume.h"
+#include "methods/prt/prt.h"
 #include "methods/csl/csl.h"
 #include "methods/lpi/lpi.h"
 #include "methods/photon_map/photon_map.h"
@@ -30,6 +31,7 @@ std::vector<MethodEntry>& mutable_registry() {
       entry<CslMethod>(),
       entry<CausticMappingMethod>(),
       entry<CausticVolumeMethod>(),
+      entry<PrtMethod>(),
   };
   return registry;
 }

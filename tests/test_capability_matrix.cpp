@@ -146,9 +146,9 @@ TEST(CapabilityMatrixExperiment, ValidatesAndStoresTheDeclarations) {
   const json& matrix = experiment.report.capability_matrix;
   ASSERT_TRUE(matrix.is_object());
   EXPECT_EQ(matrix["cases"].size(), Capabilities{}.entries().size());
-  // Liu's columns the suite implements: photon map, caustic mapping, caustic volume, pinhole, LPI, CSL; each
-  // one a method.
-  EXPECT_EQ(matrix["published"]["methods"].size(), 6u);
+  // Liu's columns, all of which the suite implements: photon map, caustic mapping, caustic volume,
+  // pinhole, PRT, LPI, CSL; each one a method.
+  EXPECT_EQ(matrix["published"]["methods"].size(), 7u);
   for (const auto& [method, marks] : matrix["published"]["methods"].items()) EXPECT_NO_THROW(find_method(method)) << method;
   // Judged at frame 1 with frame 0 played first, so that the moving cases move (tests/test_capabilities.cpp).
   EXPECT_EQ(matrix["frame"], 1);
@@ -171,7 +171,7 @@ TEST(CapabilityMatrixExperiment, RefusesDefectsWithFileLineAndKey) {
   const std::vector<std::tuple<std::string, std::string, std::string>> defects = {
       {"{capability: point_light, with:", "{capability: point_lite, with:", "did you mean 'point_light'"},
       {"without: occlusion_without,", "without: occlusion_with,", "a variant of the experiment"},
-      {"  select: {pinhole: interaction=reflect, lpi: light_subdivision=0}\n", "", "one run of"},
+      {"  select: {pinhole: interaction=reflect, lpi: light_subdivision=0, prt: volume_radius=7}\n", "", "one run of"},
       {"lpi: [directional_light,", "lpi: [reflection, directional_light,", "a capability that `rows` maps"},
       {"      occlusion: [Occluded caustic light]\n", "      occlusion: [Occluded caustic light]\n      colour: [x]\n",
        "capability_matrix.published.rows.colour"},

@@ -21,13 +21,17 @@ std::vector<Vec3> fibonacci_directions(int count) {
   return directions;
 }
 
+std::unique_ptr<GridLayout> transfer_grid(const BoundingSphere& bounds, const TransferSettings& settings) {
+  const float radius = static_cast<float>(settings.volume_radius) * bounds.radius;
+  return std::make_unique<GridLayout>(bounds.center, radius, settings.grid_resolution);
+}
+
 TransferField precompute_transfer(const Scene& build_scene, int object, const BoundingSphere& bounds,
                                   const TransferSettings& settings, const std::function<void(size_t, size_t)>& report) {
   const auto start = std::chrono::steady_clock::now();
   TransferField field;
   field.bands = settings.bands;
-  const float radius = static_cast<float>(settings.volume_radius) * bounds.radius;
-  field.grid = std::make_unique<GridLayout>(bounds.center, radius, settings.grid_resolution);
+  field.grid = transfer_grid(bounds, settings);
   const GridLayout& grid = *field.grid;
   const size_t n2 = field.coefficients(), cells = grid.points(), per_cell = 3 * n2;
   field.matrices.assign(cells * field.values_per_cell(), 0.0f);
@@ -128,7 +132,9 @@ Color transfer_irradiance(const TransferField& field, const std::vector<float>& 
       for (int c = 0; c < 3; ++c) result[c] += cosine * coefficients[static_cast<size_t>(c) * n2 + k] * basis[k];
     }
   }
-  return result;
+  // A truncated series rings below zero beside a sharp light; irradiance is not negative: clamped, as
+  // PRT renderers clamp what they display.
+  return glm::max(result, Color(0.0f));
 }
 
 }  // namespace causticbench::prt

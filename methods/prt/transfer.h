@@ -50,6 +50,9 @@ struct TransferField {
   size_t values_per_cell() const { return 3 * coefficients() * coefficients(); }
 };
 
+// The grid of a field: the cube around the ball of settings.volume_radius bounding radii.
+std::unique_ptr<GridLayout> transfer_grid(const BoundingSphere& bounds, const TransferSettings& settings);
+
 // Shoots every source direction at object `object` of `build_scene` (the object alone, posed in build
 // space: build_space.h) and returns its field over a grid centred on `bounds` (the object's bounding
 // sphere there). Photon i of direction s draws only from Random(seed, s 2^32 + i), summed in fixed
@@ -63,7 +66,7 @@ std::vector<float> incident_field(const TransferField& field, const std::vector<
 
 // E_c at a build-space point of unit build-space normal, from the frame's incident field: the field's
 // coefficients interpolated trilinearly between cell centres (held beyond the outermost), then the
-// clamped cosine's sum. Zero outside the sampled cube.
+// clamped cosine's sum, negative values (the truncation's ringing) clamped to 0. Zero outside the cube.
 Color transfer_irradiance(const TransferField& field, const std::vector<float>& incident, const Vec3& point, const Vec3& normal);
 
 }  // namespace causticbench::prt

@@ -1,0 +1,161 @@
+// prt's lifecycle: prepare (plan, shoot), update (the frame's lighting, l = M L per cell), render (the
+// clamped-cosine sum at each receiver point), and what a run records. The knobs are in prt_info.cpp,
+// the build cache's view in prt_build.cpp.
+#include "methods/prt/prt.h"
+
+#include <chrono>
+
+#include <fmt/format.h>
+
+#include "core/parallel.h"
+#include "core/progress.h"
+#include "methods/common/ball_radius.h"
+
+namespace causticbench {
+
+PrtMethod::PrtMethod() = default;
+PrtMethod::~PrtMethod() = default;
+
+void PrtMethod::check_scene(const Scene& scene) const {
+  require_specular_object(scene, "prt precomputes the transfer of specular objects");
+}
+
+void PrtMethod::plan(const PrepareContext& context, const ParamSet& build) {
+  settings_ = prt::transfer_settings(build);
+  scene_ = &context.scene;
+  objects_.clear();
+  projector_ = std::make_unique<prt::LightingProjector>(settings_.bands);
+  for (int object : context.rest.specular_objects()) {
+    ObjectTransfer transfer;
+    transfer.object = object;
+    transfer.name = context.scene.objects[object].name;
+    const Scene alone = build_space_scene(context.scene, object);
+    const SceneFrame frame(alone, 0.0);
+    transfer.bounds = frame.bounds[0];
+    const BallRadius radius =
+        choose_ball_radius(context, object, transfer.bounds, settings_.volume_radius, settings_.grid_resolution);
+    transfer.volume_radius = radius.radii;
+    transfer.volume_radius_reason = radius.reason;
+    if (radius.capped && radius.lost_at_cap > kLostFluxWarning)
+      fmt::print(stderr, "warning: prt: object '{}': {}; raise grid_resolution, or set volume_radius\n", transfer.name,
+                 radius.reason);
+    prt::TransferSettings object_settings = settings_;
+    object_settings.volume_radius = radius.radii;
+    transfer.field.bands = settings_.bands;
+    transfer.field.grid = prt::transfer_grid(transfer.bounds, object_settings);
+    objects_.push_back(std::move(transfer));
+  }
+}
+
+void PrtMethod::prepare(const PrepareContext& context, const ParamSet& build) {
+  plan(context, build);
+  Progress progress("prt source directions", static_cast<double>(objects_.size() * settings_.source_directions));
+  size_t done_before = 0;
+  for (ObjectTransfer& transfer : objects_) {
+    const Scene alone = build_space_scene(context.scene, transfer.object);
+    prt::TransferSettings object_settings = settings_;
+    object_settings.volume_radius = transfer.volume_radius;
+    transfer.field = prt::precompute_transfer(alone, 0, transfer.bounds, object_settings, [&](size_t done, size_t) {
+      progress.update(static_cast<double>(done_before + done), transfer.name);
+    });
+    done_before += static_cast<size_t>(settings_.source_directions);
+  }
+  progress.finish();
+}
+
+void PrtMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
+  const auto start = std::chrono::steady_clock::now();
+  const HarmonicWindow window = harmonic_window(frame_knobs.text("window"));
+  for (ObjectTransfer& transfer : objects_) {
+    transfer.map = build_space_map(scene_->objects[transfer.object], frame.frame.frame);
+    const prt::FrameLighting lighting = projector_->project(frame.frame.lights, transfer.map, transfer.bounds.center, window);
+    transfer.quadrature_points = lighting.quadrature_points;
+    transfer.incident = prt::incident_field(transfer.field, lighting.coefficients);
+  }
+  update_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+Image PrtMethod::render(const GBuffer& gbuffer, const ParamSet&) {
+  Image result(gbuffer.width, gbuffer.height, 3);
+  std::vector<double> evaluated((gbuffer.pixel_count() + 1023) / 1024, 0.0);
+  parallel_blocks(gbuffer.pixel_count(), 1024, [&](size_t begin, size_t end, size_t block) {
+    for (size_t pixel = begin; pixel < end; ++pixel) {
+      if (!gbuffer.receiver[pixel]) continue;
+      Color irradiance(0.0f);
+      for (const ObjectTransfer& transfer : objects_) {
+        const Vec3 point = transfer.map.point(gbuffer.position[pixel]);
+        const Vec3 normal = glm::normalize(transfer.map.normals * gbuffer.normal[pixel]);
+        irradiance += prt::transfer_irradiance(transfer.field, transfer.incident, point, normal);
+        evaluated[block] += 1.0;
+      }
+      result.set_rgb(pixel, irradiance);
+    }
+  });
+  points_evaluated_ = 0.0;
+  for (double count : evaluated) points_evaluated_ += count;
+  return result;
+}
+
+size_t PrtMethod::memory_bytes() const {
+  size_t bytes = 0;
+  for (const ObjectTransfer& transfer : objects_)
+    bytes += transfer.field.matrices.size() * sizeof(float) + transfer.incident.size() * sizeof(float);
+  return bytes;
+}
+
+Counters PrtMethod::counters() const {
+  double cells = 0.0, photons = 0.0, seconds = 0.0;
+  for (const ObjectTransfer& transfer : objects_) {
+    cells += static_cast<double>(transfer.field.grid->points());
+    photons += static_cast<double>(transfer.field.stats.emitted);
+    seconds += transfer.field.shoot_seconds;
+  }
+  return {{"cells", cells},
+          {"photons_emitted", photons},
+          {"precompute_seconds", seconds},
+          {"bytes_per_cell", static_cast<double>(3 * settings_.bands * settings_.bands * settings_.bands * settings_.bands *
+                                                 sizeof(float))},
+          {"receiver_points", points_evaluated_}};
+}
+
+nlohmann::json PrtMethod::record() const {
+  nlohmann::json objects = nlohmann::json::array();
+  for (const ObjectTransfer& transfer : objects_) {
+    objects.push_back({{"object", transfer.name},
+                       {"cells", transfer.field.grid->points()},
+                       {"coefficients", transfer.field.coefficients()},
+                       {"memory_bytes", transfer.field.matrices.size() * sizeof(float)},
+                       {"volume_radius", transfer.field.grid->radius()},
+                       {"volume_radius_bounding_radii", transfer.volume_radius},
+                       {"volume_radius_why", transfer.volume_radius_reason},
+                       {"source_directions", settings_.source_directions},
+                       {"precompute_seconds", transfer.field.shoot_seconds},
+                       {"environment_points_projected", transfer.quadrature_points}});
+  }
+  return {{"objects", objects}, {"update_seconds", update_seconds_}};
+}
+
+// Probe photons from this frame's lights at each object, through the whole scene: the flux of the
+// objects' caustics that first lands beyond the ball its grid covers, which the field does not hold.
+std::optional<LostFlux> PrtMethod::lost_flux(const FrameContext& frame, const GBuffer&, const ParamSet&) {
+  double total = 0.0, beyond = 0.0, needed = 0.0;
+  for (const ObjectTransfer& transfer : objects_) {
+    const CausticReach reach = frame_reach(frame.frame, frame.tracer, transfer.object, transfer.bounds);
+    total += reach.total_flux;
+    beyond += reach.fraction_beyond(transfer.volume_radius) * reach.total_flux;
+    needed = std::max(needed, reach.radius_holding(kHeldFraction) * kRadiusMargin);
+  }
+  LostFlux lost;
+  lost.fraction = total > 0.0 ? beyond / total : 0.0;
+  lost.what = "caustic flux whose first receiver hit lies outside the transfer grid's ball";
+  lost.knob = "volume_radius";
+  const double cap = ball_radius_cap(settings_.grid_resolution);
+  lost.advice = settings_.volume_radius > 0.0
+                    ? fmt::format("set volume_radius: auto (this frame needs about {:.3g} bounding radii)", needed)
+                    : fmt::format("the receivers lie beyond {:.3g} bounding radii, the largest ball auto chooses at this "
+                                  "grid_resolution; raise it or set volume_radius (needs about {:.3g})",
+                                  cap, needed);
+  return lost;
+}
+
+}  // namespace causticbench

@@ -1,0 +1,111 @@
+// prt's build: what determines it (build_dependencies), its files (save_build, load_build) and its
+// memory at the peak (knob_memory).
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "core/files.h"
+#include "core/scene_description.h"
+#include "methods/common/ball_radius.h"
+#include "methods/prt/prt.h"
+
+namespace causticbench {
+
+namespace {
+
+const char* kMatricesFormat = "causticbench prt matrices 1";
+
+}  // namespace
+
+// Per specular object: its shape, material and scale at frame 0 (the build is in its own frame), and
+// with auto the ball the probes chose; the build knobs. Not the lights: the transfer holds every
+// direction.
+std::optional<nlohmann::json> PrtMethod::build_dependencies(const PrepareContext& context, const ParamSet& build) const {
+  const prt::TransferSettings settings = prt::transfer_settings(build);
+  nlohmann::json objects = nlohmann::json::array();
+  for (int object : context.rest.specular_objects()) {
+    const SceneObject& source = context.scene.objects[object];
+    const Scene alone = build_space_scene(context.scene, object);
+    const SceneFrame frame(alone, 0.0);
+    const glm::dvec3 scale = source.transform.scale.at(0.0);
+    nlohmann::json entry = {{"shape", shape_json(source.shape)},
+                            {"material", material_json(source.material)},
+                            {"scale", {scale.x, scale.y, scale.z}}};
+    if (build.is_auto("volume_radius"))
+      entry["volume_radius"] =
+          choose_ball_radius(context, object, frame.bounds[0], settings.volume_radius, settings.grid_resolution).radii;
+    objects.push_back(std::move(entry));
+  }
+  return nlohmann::json{{"objects", objects}, {"build", build.key_json(static_info().params)}};
+}
+
+// The peak per object: the matrices (cells x 3 n^4 floats), and while shooting eight chunk sums of floats
+// and one of doubles of the cells' incident coefficients (cells x 3 n^2 x (8 x 4 + 8) bytes).
+std::vector<MemoryTerm> PrtMethod::knob_memory(const PrepareContext& context, const ParamSet& knobs) const {
+  const double n = static_cast<double>(knobs.integer("sh_order"));
+  const double cells = std::pow(static_cast<double>(knobs.integer("grid_resolution")), 3.0);
+  const double matrices = cells * 3.0 * n * n * n * n * 4.0, shooting = cells * 3.0 * n * n * 40.0;
+  std::vector<MemoryTerm> terms;
+  for (int object : context.rest.specular_objects())
+    terms.push_back(MemoryTerm{{"grid_resolution", "sh_order"}, matrices + shooting,
+                               fmt::format("object '{}': {:.0f} cells x 3 x {:g}^4 floats ({:.0f} MiB) + {:.0f} MiB while "
+                                           "shooting",
+                                           context.scene.objects[object].name, cells, n, matrices / 1048576.0,
+                                           shooting / 1048576.0)});
+  return terms;
+}
+
+// One file per object: a header line, the counts, then the matrices' floats.
+void PrtMethod::save_build(const std::string& folder) const {
+  nlohmann::json meta = nlohmann::json::array();
+  for (size_t i = 0; i < objects_.size(); ++i) {
+    const ObjectTransfer& transfer = objects_[i];
+    const std::string name = fmt::format("object_{}.bin", i);
+    write_stream_atomically((std::filesystem::path(folder) / name).string(), [&](std::ostream& stream) {
+      const uint64_t header[2] = {static_cast<uint64_t>(transfer.field.bands), transfer.field.matrices.size()};
+      stream.write(kMatricesFormat, static_cast<std::streamsize>(std::strlen(kMatricesFormat) + 1));
+      stream.write(reinterpret_cast<const char*>(header), sizeof(header));
+      stream.write(reinterpret_cast<const char*>(transfer.field.matrices.data()),
+                   static_cast<std::streamsize>(transfer.field.matrices.size() * sizeof(float)));
+    });
+    meta.push_back({{"file", name},
+                    {"object", transfer.name},
+                    {"precompute_seconds", transfer.field.shoot_seconds},
+                    {"emitted", transfer.field.stats.emitted},
+                    {"deposited", transfer.field.stats.deposited},
+                    {"rays", transfer.field.stats.rays}});
+  }
+  write_text_atomically((std::filesystem::path(folder) / "transfer.json").string(), meta.dump(2) + "\n");
+}
+
+void PrtMethod::load_build(const PrepareContext& context, const ParamSet& build, const std::string& folder) {
+  plan(context, build);
+  std::ifstream meta_stream(std::filesystem::path(folder) / "transfer.json");
+  const nlohmann::json meta = nlohmann::json::parse(meta_stream, nullptr, false);
+  if (meta.is_discarded() || !meta.is_array() || meta.size() != objects_.size())
+    throw std::runtime_error(folder + "/transfer.json: unreadable or not one entry per specular object");
+  for (size_t i = 0; i < objects_.size(); ++i) {
+    ObjectTransfer& transfer = objects_[i];
+    const std::string path = (std::filesystem::path(folder) / fmt::format("object_{}.bin", i)).string();
+    std::ifstream stream(path, std::ios::binary);
+    std::string format(std::strlen(kMatricesFormat) + 1, '\0');
+    stream.read(format.data(), static_cast<std::streamsize>(format.size()));
+    uint64_t header[2] = {};
+    stream.read(reinterpret_cast<char*>(header), sizeof(header));
+    const uint64_t expected = transfer.field.grid->points() * transfer.field.values_per_cell();
+    if (!stream || format != std::string(kMatricesFormat, format.size()) ||
+        header[0] != static_cast<uint64_t>(settings_.bands) || header[1] != expected)
+      throw std::runtime_error(path + ": not the matrices of this build");
+    transfer.field.matrices.resize(expected);
+    stream.read(reinterpret_cast<char*>(transfer.field.matrices.data()), static_cast<std::streamsize>(expected * sizeof(float)));
+    if (!stream) throw std::runtime_error(path + ": truncated");
+    transfer.field.shoot_seconds = meta[i].value("precompute_seconds", 0.0);
+    transfer.field.stats = PhotonStats{meta[i].value("emitted", uint64_t{0}), meta[i].value("deposited", uint64_t{0}),
+                                       meta[i].value("rays", uint64_t{0})};
+  }
+}
+
+}  // namespace causticbench
