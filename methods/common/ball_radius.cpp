@@ -90,4 +90,12 @@ BallRadius choose_ball_radius(const PrepareContext& context, int object, const B
   return chosen;
 }
 
+void BallLoss::add(const SceneFrame& frame, const Tracer& tracer, int object, const BoundingSphere& build_bounds,
+                   double radii) {
+  const CausticReach reach = frame_reach(frame, tracer, object, build_bounds);
+  total += reach.total_flux;
+  beyond += reach.fraction_beyond(radii) * reach.total_flux;
+  needed = std::max(needed, reach.radius_holding(kHeldFraction) * kRadiusMargin);
+}
+
 }  // namespace causticbench

@@ -45,4 +45,13 @@ BallRadius choose_ball_radius(const PrepareContext& context, int object, const B
 // The probes of one frame (kProbePhotons, a fixed seed), measured from `build_bounds`' centre.
 CausticReach frame_reach(const SceneFrame& frame, const Tracer& tracer, int object, const BoundingSphere& build_bounds);
 
+// A frame's caustic flux against the balls of its objects, summed over objects (each add() probes one):
+// the flux that first meets a receiver, the part of it beyond the object's ball, and the largest ball
+// (in bounding radii) that auto would choose for this frame. What lost_flux reports.
+struct BallLoss {
+  double total = 0.0, beyond = 0.0, needed = 0.0;
+  void add(const SceneFrame& frame, const Tracer& tracer, int object, const BoundingSphere& build_bounds, double radii);
+  double fraction() const { return total > 0.0 ? beyond / total : 0.0; }
+};
+
 }  // namespace causticbench

@@ -217,15 +217,12 @@ nlohmann::json LpiMethod::record() const {
 // `fade` it is rendered from the ball's surface value, under `zero` not at all: either way the volume
 // does not hold it.
 std::optional<LostFlux> LpiMethod::lost_flux(const FrameContext& frame, const GBuffer&, const ParamSet&) {
-  double total = 0.0, beyond = 0.0, needed = 0.0;
-  for (const ObjectVolumes& object : objects_) {
-    const CausticReach reach = frame_reach(frame.frame, frame.tracer, object.object, object.bounds);
-    total += reach.total_flux;
-    beyond += reach.fraction_beyond(object.volume_radius) * reach.total_flux;
-    needed = std::max(needed, reach.radius_holding(kHeldFraction) * kRadiusMargin);
-  }
+  BallLoss loss;
+  for (const ObjectVolumes& object : objects_)
+    loss.add(frame.frame, frame.tracer, object.object, object.bounds, object.volume_radius);
+  const double needed = loss.needed;
   LostFlux lost;
-  lost.fraction = total > 0.0 ? beyond / total : 0.0;
+  lost.fraction = loss.fraction();
   lost.what = "caustic flux whose first receiver hit lies outside the sampled ball";
   lost.knob = "volume_radius";
   const double cap = volume_radius_cap(settings_);

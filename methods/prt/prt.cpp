@@ -138,15 +138,12 @@ nlohmann::json PrtMethod::record() const {
 // Probe photons from this frame's lights at each object, through the whole scene: the flux of the
 // objects' caustics that first lands beyond the ball its grid covers, which the field does not hold.
 std::optional<LostFlux> PrtMethod::lost_flux(const FrameContext& frame, const GBuffer&, const ParamSet&) {
-  double total = 0.0, beyond = 0.0, needed = 0.0;
-  for (const ObjectTransfer& transfer : objects_) {
-    const CausticReach reach = frame_reach(frame.frame, frame.tracer, transfer.object, transfer.bounds);
-    total += reach.total_flux;
-    beyond += reach.fraction_beyond(transfer.volume_radius) * reach.total_flux;
-    needed = std::max(needed, reach.radius_holding(kHeldFraction) * kRadiusMargin);
-  }
+  BallLoss loss;
+  for (const ObjectTransfer& transfer : objects_)
+    loss.add(frame.frame, frame.tracer, transfer.object, transfer.bounds, transfer.volume_radius);
+  const double needed = loss.needed;
   LostFlux lost;
-  lost.fraction = total > 0.0 ? beyond / total : 0.0;
+  lost.fraction = loss.fraction();
   lost.what = "caustic flux whose first receiver hit lies outside the transfer grid's ball";
   lost.knob = "volume_radius";
   const double cap = ball_radius_cap(settings_.grid_resolution);
