@@ -99,7 +99,7 @@ Image PrtMethod::render(const GBuffer& gbuffer, const ParamSet&) {
 size_t PrtMethod::memory_bytes() const {
   size_t bytes = 0;
   for (const ObjectTransfer& transfer : objects_)
-    bytes += transfer.field.matrices.size() * sizeof(float) + transfer.incident.size() * sizeof(float);
+    bytes += transfer.field.stored_bytes() + transfer.incident.size() * sizeof(float);
   return bytes;
 }
 
@@ -114,7 +114,7 @@ Counters PrtMethod::counters() const {
           {"photons_emitted", photons},
           {"precompute_seconds", seconds},
           {"bytes_per_cell", static_cast<double>(3 * settings_.bands * settings_.bands * settings_.bands * settings_.bands *
-                                                 sizeof(float))},
+                                                 (settings_.half ? sizeof(uint16_t) : sizeof(float)))},
           {"receiver_points", points_evaluated_}};
 }
 
@@ -124,7 +124,8 @@ nlohmann::json PrtMethod::record() const {
     objects.push_back({{"object", transfer.name},
                        {"cells", transfer.field.grid->points()},
                        {"coefficients", transfer.field.coefficients()},
-                       {"memory_bytes", transfer.field.matrices.size() * sizeof(float)},
+                       {"memory_bytes", transfer.field.stored_bytes()},
+                       {"precision", settings_.half ? "float16" : "float32"},
                        {"volume_radius", transfer.field.grid->radius()},
                        {"volume_radius_bounding_radii", transfer.volume_radius},
                        {"volume_radius_why", transfer.volume_radius_reason},

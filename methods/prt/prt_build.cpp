@@ -16,7 +16,7 @@ namespace causticbench {
 
 namespace {
 
-const char* kMatricesFormat = "causticbench prt matrices 1";
+const char* kMatricesFormat = "causticbench prt matrices 2";
 
 }  // namespace
 
@@ -47,7 +47,9 @@ std::optional<nlohmann::json> PrtMethod::build_dependencies(const PrepareContext
 std::vector<MemoryTerm> PrtMethod::knob_memory(const PrepareContext& context, const ParamSet& knobs) const {
   const double n = static_cast<double>(knobs.integer("sh_order"));
   const double cells = std::pow(static_cast<double>(knobs.integer("grid_resolution")), 3.0);
-  const double matrices = cells * 3.0 * n * n * n * n * 4.0, shooting = cells * 3.0 * n * n * 40.0;
+  // float16: the floats the build sums, and the halves beside them while they are converted.
+  const bool half = knobs.has("precision") && knobs.text("precision") == "float16";
+  const double matrices = cells * 3.0 * n * n * n * n * (half ? 6.0 : 4.0), shooting = cells * 3.0 * n * n * 40.0;
   std::vector<MemoryTerm> terms;
   for (int object : context.rest.specular_objects())
     terms.push_back(MemoryTerm{{"grid_resolution", "sh_order"}, matrices + shooting,
@@ -58,18 +60,24 @@ std::vector<MemoryTerm> PrtMethod::knob_memory(const PrepareContext& context, co
   return terms;
 }
 
-// One file per object: a header line, the counts, then the matrices' floats.
+// One file per object: a header line, the counts (bands, entries, bytes an entry), then the entries.
 void PrtMethod::save_build(const std::string& folder) const {
   nlohmann::json meta = nlohmann::json::array();
   for (size_t i = 0; i < objects_.size(); ++i) {
     const ObjectTransfer& transfer = objects_[i];
     const std::string name = fmt::format("object_{}.bin", i);
     write_stream_atomically((std::filesystem::path(folder) / name).string(), [&](std::ostream& stream) {
-      const uint64_t header[2] = {static_cast<uint64_t>(transfer.field.bands), transfer.field.matrices.size()};
+      const bool half = transfer.field.matrices.empty();
+      const uint64_t header[3] = {static_cast<uint64_t>(transfer.field.bands), transfer.field.stored_values(),
+                                  half ? sizeof(uint16_t) : sizeof(float)};
       stream.write(kMatricesFormat, static_cast<std::streamsize>(std::strlen(kMatricesFormat) + 1));
       stream.write(reinterpret_cast<const char*>(header), sizeof(header));
-      stream.write(reinterpret_cast<const char*>(transfer.field.matrices.data()),
-                   static_cast<std::streamsize>(transfer.field.matrices.size() * sizeof(float)));
+      if (half)
+        stream.write(reinterpret_cast<const char*>(transfer.field.halves.data()),
+                     static_cast<std::streamsize>(transfer.field.halves.size() * sizeof(uint16_t)));
+      else
+        stream.write(reinterpret_cast<const char*>(transfer.field.matrices.data()),
+                     static_cast<std::streamsize>(transfer.field.matrices.size() * sizeof(float)));
     });
     meta.push_back({{"file", name},
                     {"object", transfer.name},
@@ -93,14 +101,20 @@ void PrtMethod::load_build(const PrepareContext& context, const ParamSet& build,
     std::ifstream stream(path, std::ios::binary);
     std::string format(std::strlen(kMatricesFormat) + 1, '\0');
     stream.read(format.data(), static_cast<std::streamsize>(format.size()));
-    uint64_t header[2] = {};
+    uint64_t header[3] = {};
     stream.read(reinterpret_cast<char*>(header), sizeof(header));
     const uint64_t expected = transfer.field.grid->points() * transfer.field.values_per_cell();
+    const uint64_t entry = settings_.half ? sizeof(uint16_t) : sizeof(float);
     if (!stream || format != std::string(kMatricesFormat, format.size()) ||
-        header[0] != static_cast<uint64_t>(settings_.bands) || header[1] != expected)
+        header[0] != static_cast<uint64_t>(settings_.bands) || header[1] != expected || header[2] != entry)
       throw std::runtime_error(path + ": not the matrices of this build");
-    transfer.field.matrices.resize(expected);
-    stream.read(reinterpret_cast<char*>(transfer.field.matrices.data()), static_cast<std::streamsize>(expected * sizeof(float)));
+    if (settings_.half) {
+      transfer.field.halves.resize(expected);
+      stream.read(reinterpret_cast<char*>(transfer.field.halves.data()), static_cast<std::streamsize>(expected * entry));
+    } else {
+      transfer.field.matrices.resize(expected);
+      stream.read(reinterpret_cast<char*>(transfer.field.matrices.data()), static_cast<std::streamsize>(expected * entry));
+    }
     if (!stream) throw std::runtime_error(path + ": truncated");
     transfer.field.shoot_seconds = meta[i].value("precompute_seconds", 0.0);
     transfer.field.stats = PhotonStats{meta[i].value("emitted", uint64_t{0}), meta[i].value("deposited", uint64_t{0}),

@@ -33,6 +33,12 @@ const MethodInfo& PrtMethod::static_info() {
         ParamSpec::integer("photons_per_direction", 20000, 1, 4e9, "photons shot at the object per source direction",
                            ParamPhase::build),
         ParamSpec::integer("seed", 1, 0, 4e9, "seed of the photon paths", ParamPhase::build),
+        // Added after prt's first runs were recorded: float32 (what they did) stays out of their keys.
+        ParamSpec::choice("precision", "float32", {"float32", "float16"},
+                          "stored matrix entries: float32, or float16 (half the memory and half the bytes the frame's "
+                          "product reads, about 3 significant digits an entry)",
+                          ParamPhase::build)
+            .unkeyed_at_default(),
         ParamSpec::choice("window", "none", {"none", "hanning", "lanczos"},
                           "a window on the lighting's bands (beyond the paper): none, or hanning / lanczos, which trade "
                           "the ringing of a sharp light for blur and keep its total",
@@ -60,7 +66,7 @@ const MethodInfo& PrtMethod::static_info() {
     m.counters = {counter_quantity("cells", "cells", "transfer cells over all objects"),
                   counter_quantity("photons_emitted", "photons", "photons shot over all source directions and objects"),
                   counter_quantity("precompute_seconds", "s", "precomputation time, all objects", QuantityKind::timing),
-                  counter_quantity("bytes_per_cell", "bytes", "a cell's transfer matrices (3 x sh_order^4 floats)",
+                  counter_quantity("bytes_per_cell", "bytes", "a cell's transfer matrices (3 x sh_order^4 entries)",
                                    QuantityKind::size),
                   counter_quantity("receiver_points", "points",
                                    "receiver points times objects evaluated in the last frame (divided by render_ms: "
@@ -78,6 +84,7 @@ prt::TransferSettings prt::transfer_settings(const ParamSet& build) {
   settings.source_directions = static_cast<int>(build.integer("source_directions"));
   settings.photons_per_direction = static_cast<uint64_t>(build.integer("photons_per_direction"));
   settings.seed = static_cast<uint64_t>(build.integer("seed"));
+  settings.half = build.has("precision") && build.text("precision") == "float16";
   return settings;
 }
 

@@ -3,6 +3,10 @@
 #include <chrono>
 #include <cmath>
 
+#include <immintrin.h>
+
+#include <glm/gtc/packing.hpp>
+
 #include "core/parallel.h"
 #include "core/tracer.h"
 #include "methods/common/harmonic_lighting.h"
@@ -83,9 +87,40 @@ TransferField precompute_transfer(const Scene& build_scene, int object, const Bo
     });
     if (report) report(s + 1, directions.size());
   }
+  if (settings.half) store_as_halves(field);
   field.shoot_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return field;
 }
+
+void store_as_halves(TransferField& field) {
+  field.halves.resize(field.matrices.size());
+  parallel_blocks(field.matrices.size(), 1 << 16, [&](size_t begin, size_t end, size_t) {
+    for (size_t i = begin; i < end; ++i) field.halves[i] = glm::packHalf1x16(field.matrices[i]);
+  });
+  std::vector<float>().swap(field.matrices);
+}
+
+namespace {
+
+bool has_f16c() {
+  static const bool available = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("f16c");
+  return available;
+}
+
+// A row of half floats widened into `out` (n values): eight at a time with F16C.
+__attribute__((target("avx2,f16c"))) void widen_f16c(const uint16_t* row, size_t n, float* out) {
+  size_t j = 0;
+  for (; j + 8 <= n; j += 8)
+    _mm256_storeu_ps(out + j, _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(row + j))));
+  for (; j < n; ++j) out[j] = _cvtsh_ss(row[j]);
+}
+
+void widen(const uint16_t* row, size_t n, float* out) {
+  if (has_f16c()) return widen_f16c(row, n, out);
+  for (size_t j = 0; j < n; ++j) out[j] = glm::unpackHalf1x16(row[j]);
+}
+
+}  // namespace
 
 std::vector<float> incident_field(const TransferField& field, const std::vector<double> lighting[3]) {
   const size_t n2 = field.coefficients(), cells = field.grid->points();
@@ -95,11 +130,18 @@ std::vector<float> incident_field(const TransferField& field, const std::vector<
     for (size_t j = 0; j < n2; ++j) light[c][j] = static_cast<float>(lighting[c][j]);
   parallel_blocks(cells, 512, [&](size_t begin, size_t end, size_t) {
     for (size_t cell = begin; cell < end; ++cell) {
-      const float* matrix = field.matrices.data() + cell * field.values_per_cell();
+      const size_t first = cell * field.values_per_cell();
+      float widened[kMaxBands * kMaxBands];
       float* out = incident.data() + cell * 3 * n2;
       for (int c = 0; c < 3; ++c)
         for (size_t i = 0; i < n2; ++i) {
-          const float* row = matrix + (static_cast<size_t>(c) * n2 + i) * n2;
+          const size_t at = first + (static_cast<size_t>(c) * n2 + i) * n2;
+          const float* row = widened;
+          if (field.matrices.empty()) {
+            widen(field.halves.data() + at, n2, widened);
+          } else {
+            row = field.matrices.data() + at;
+          }
           float sum = 0.0f;
           for (size_t j = 0; j < n2; ++j) sum += row[j] * light[c][j];
           out[static_cast<size_t>(c) * n2 + i] = sum;

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstddef>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -32,6 +33,7 @@ struct TransferSettings {
   int source_directions = 256;   // N
   uint64_t photons_per_direction = 20000;
   uint64_t seed = 1;
+  bool half = false;             // precision: float16 matrices (half the memory and the frame's reads)
 };
 
 // N unit directions of equal area 4 pi / N each on the sphere: the spherical Fibonacci lattice (cos theta
@@ -39,11 +41,16 @@ struct TransferSettings {
 std::vector<Vec3> fibonacci_directions(int count);
 
 // The precomputed field of one object. Per cell, per colour c, per incident coefficient i, the n^2
-// values M_ij over source coefficients j, contiguous (what the frame's product l = M L reads in order).
+// values M_ij over source coefficients j, contiguous (what the frame's product l = M L reads in order):
+// as floats, or (precision: float16) as IEEE half floats, rounded to nearest from the floats the build
+// summed.
 struct TransferField {
   int bands = 0;
   std::unique_ptr<GridLayout> grid;
-  std::vector<float> matrices;  // cells x 3 x n^2 x n^2
+  std::vector<float> matrices;   // cells x 3 x n^2 x n^2 (empty when halves holds them)
+  std::vector<uint16_t> halves;  // precision: float16
+  size_t stored_values() const { return matrices.empty() ? halves.size() : matrices.size(); }
+  size_t stored_bytes() const { return matrices.size() * sizeof(float) + halves.size() * sizeof(uint16_t); }
   PhotonStats stats;
   double shoot_seconds = 0.0;
   size_t coefficients() const { return static_cast<size_t>(bands) * bands; }
@@ -60,8 +67,12 @@ std::unique_ptr<GridLayout> transfer_grid(const BoundingSphere& bounds, const Tr
 TransferField precompute_transfer(const Scene& build_scene, int object, const BoundingSphere& bounds,
                                   const TransferSettings& settings, const std::function<void(size_t, size_t)>& report);
 
+// Replaces the field's floats by half floats (precision: float16).
+void store_as_halves(TransferField& field);
+
 // The frame's incident field: per cell, per colour, l = M L (3 x n^2 floats a cell), from the lighting
-// L per colour (3 x n^2 coefficients, build space).
+// L per colour (3 x n^2 coefficients, build space). Half floats are widened with F16C where the
+// processor has it (every one with AVX2), else one by one: the same floats either way.
 std::vector<float> incident_field(const TransferField& field, const std::vector<double> lighting[3]);
 
 // E_c at a build-space point of unit build-space normal, from the frame's incident field: the field's

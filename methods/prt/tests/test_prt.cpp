@@ -2,10 +2,13 @@
 // (a Gaussian spot of 0.5 sr), at stated knobs.
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "core/image.h"
 #include "core/image_statistics.h"
 #include "tests/test_support.h"
 
@@ -48,6 +51,45 @@ TEST(Prt, SmoothLobeOnTheGlassSphereMatchesTheReference) {
   std::printf("glass sphere under a 0.5 sr lobe: relMSE %.4f, energy %.4f\n", measured.relmse, measured.energy);
   EXPECT_LT(measured.relmse, 0.2);
   EXPECT_NEAR(measured.energy, 1.0, 0.05);
+}
+
+// precision: float16 stores the matrices in half floats: the image is float32's to half precision, and a
+// float16 build stored in the build cache and loaded again renders the same bits.
+TEST(Prt, Float16MatricesAgreeWithFloat32AndReloadBitIdentically) {
+  const Scene scene = scene_from_yaml(kSmallGlassSphere);
+  const std::vector<std::string> knobs = {"sh_order=4", "grid_resolution=16", "volume_radius=4", "source_directions=32",
+                                          "photons_per_direction=4000"};
+  std::vector<std::string> half = knobs;
+  half.push_back("precision=float16");
+  const FrameResult full = render(scene, "prt", knobs), halved = render(scene, "prt", half);
+  const std::vector<uint8_t>& receivers = full.gbuffer.receiver;
+  const double relmse = relative_mse(halved.caustic, full.caustic, receivers);
+  const double energy = masked_sum(halved.caustic, receivers) / masked_sum(full.caustic, receivers);
+  std::printf("float16 against float32: relMSE %.3g, energy %.6f, memory %zu against %zu bytes\n", relmse, energy,
+              halved.memory_bytes, full.memory_bytes);
+  EXPECT_GT(relmse, 0.0) << "the halves were used";
+  EXPECT_LT(relmse, 1e-5);
+  EXPECT_NEAR(energy, 1.0, 1e-3);
+  EXPECT_LT(static_cast<double>(halved.memory_bytes), 0.55 * static_cast<double>(full.memory_bytes));
+
+  const causticbench::testing::TemporaryFolder folder("prt_float16_build");
+  std::ofstream(folder.path("scene.yaml")) << kSmallGlassSphere;
+  std::string command = std::string(CAUSTICBENCH_BINARY) + " -q render " + folder.path("scene.yaml") +
+                        " --method prt --build-cache " + folder.path("builds");
+  for (const std::string& knob : half) command += " --set " + knob;
+  std::string output;
+  ASSERT_EQ(causticbench::testing::run_command(command + " --out " + folder.path("computed"), output), 0) << output;
+  ASSERT_EQ(causticbench::testing::run_command(command + " --out " + folder.path("loaded"), output), 0) << output;
+  std::stringstream record;
+  record << std::ifstream(folder.path("loaded") + "/record.json").rdbuf();
+  EXPECT_NE(record.str().find("\"source\": \"loaded\""), std::string::npos) << "the second run loads the build";
+  const Image computed = read_exr(folder.path("computed") + "/caustic.exr");
+  const Image loaded = read_exr(folder.path("loaded") + "/caustic.exr");
+  ASSERT_EQ(computed.pixel_count(), loaded.pixel_count());
+  size_t different = 0;
+  for (size_t pixel = 0; pixel < computed.pixel_count(); ++pixel)
+    for (int c = 0; c < 3; ++c) different += computed.at(pixel, c) != loaded.at(pixel, c);
+  EXPECT_EQ(different, 0u);
 }
 
 }  // namespace
