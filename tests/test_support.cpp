@@ -1,10 +1,13 @@
 #include "tests/test_support.h"
 
+#include "methods/frame_dump.h"
+
 #include <algorithm>
 #include <array>
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <sstream>
 #include <regex>
 #include <stdexcept>
 
@@ -26,6 +29,33 @@ objects:
     material: {type: mirror, reflectance: 0.9}
     transform: {translate: [0, 0.6, 0]}
 )";
+
+void expect_replay_round_trip(const std::string& gpubench, const std::string& binary, const std::string& dump,
+                              const std::string& method, const std::string& fact, const std::string& damaged_file,
+                              size_t cut, const std::string& damage_message) {
+  std::string output;
+  int code = run_command(gpubench + " " + dump + " --repetitions 2", output);
+  ASSERT_EQ(code, 0) << output;
+  std::stringstream timings;
+  timings << std::ifstream(dump + "/gpu_timings.json").rdbuf();
+  EXPECT_NE(timings.str().find("\"method\": \"" + method + "\""), std::string::npos) << timings.str();
+  EXPECT_NE(timings.str().find(fact), std::string::npos) << timings.str();
+  code = run_command(binary + " gpu-compare " + dump, output);
+  EXPECT_EQ(code, 0) << output;
+  EXPECT_NE(output.find("): agree"), std::string::npos) << output;
+  std::vector<float> wrong = read_floats(dump + "/vulkan_irradiance.bin");
+  for (float& value : wrong) value *= 0.99f;
+  write_floats(dump + "/vulkan_irradiance.bin", wrong);
+  code = run_command(binary + " gpu-compare " + dump, output);
+  EXPECT_EQ(code, 1) << output;
+  std::vector<float> damaged = read_floats(dump + "/" + damaged_file);
+  ASSERT_GT(damaged.size(), cut);
+  damaged.resize(damaged.size() - cut);
+  write_floats(dump + "/" + damaged_file, damaged);
+  code = run_command(binary + " gpu-compare " + dump, output);
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_NE(output.find(damage_message), std::string::npos) << output;
+}
 
 glm::dvec3 random_direction(Random& random) {
   const double z = 1.0 - 2.0 * random.uniform_double(), phi = 2.0 * kPiDouble * random.uniform_double();

@@ -91,6 +91,15 @@ std::string read_whole_file(const std::filesystem::path& path);
 int run_command(const std::string& command, std::string& output);
 
 // A folder under the system's temporary folder, emptied when made and removed when destroyed.
+// The second half of a Vulkan backend's dump round trip, on a `dump` folder its method wrote: `gpubench`
+// (causticbench-gpubench's path) replays it, and gpu_timings.json names `method` and holds `fact`; `binary`
+// (causticbench's) gpu-compare finds the replay agreeing; the replay's output scaled by 0.99 disagrees
+// (exit 1); `damaged_file` cut short by `cut` floats is refused (exit 2) with `damage_message`. Each
+// check is a gtest expectation.
+void expect_replay_round_trip(const std::string& gpubench, const std::string& binary, const std::string& dump,
+                              const std::string& method, const std::string& fact, const std::string& damaged_file,
+                              size_t cut, const std::string& damage_message);
+
 class TemporaryFolder {
  public:
   explicit TemporaryFolder(const std::string& name);

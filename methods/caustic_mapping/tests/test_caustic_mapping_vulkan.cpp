@@ -144,25 +144,7 @@ TEST(CausticMappingVulkan, DumpReplayCompareRoundTrip) {
   EXPECT_EQ(frame.width, 40u);
   EXPECT_EQ(frame.pass_count(), 1u);
   EXPECT_GT(frame.photon_count(), 1000u);
-  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_GPUBENCH) + " " + dump + " --repetitions 2", output);
-  ASSERT_EQ(code, 0) << output;
-  std::stringstream timings;
-  timings << std::ifstream(dump + "/gpu_timings.json").rdbuf();
-  EXPECT_NE(timings.str().find("\"method\": \"caustic_mapping\""), std::string::npos) << timings.str();
-  EXPECT_NE(timings.str().find("\"photon_buffer_texels\": " + std::to_string(frame.photon_count())), std::string::npos)
-      << timings.str();
-  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
-  EXPECT_EQ(code, 0) << output;
-  EXPECT_NE(output.find("): agree"), std::string::npos) << output;
-  std::vector<float> wrong = read_floats(dump + "/vulkan_irradiance.bin");
-  for (float& value : wrong) value *= 0.99f;
-  write_floats(dump + "/vulkan_irradiance.bin", wrong);
-  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
-  EXPECT_EQ(code, 1) << output;
-  std::vector<float> vertices = read_floats(dump + "/vertices.bin");
-  vertices.resize(vertices.size() - 8);
-  write_floats(dump + "/vertices.bin", vertices);
-  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
-  EXPECT_EQ(code, 2) << output;
-  EXPECT_NE(output.find("vertices.bin is not whole triangles"), std::string::npos) << output;
+  causticbench::testing::expect_replay_round_trip(CAUSTICBENCH_GPUBENCH, CAUSTICBENCH_BINARY, dump, "caustic_mapping",
+                                                  "\"photon_buffer_texels\": " + std::to_string(frame.photon_count()),
+                                                  "vertices.bin", 8, "vertices.bin is not whole triangles");
 }

@@ -107,24 +107,7 @@ TEST(CausticVolumeVulkan, DumpReplayCompareRoundTrip) {
   const CausticVolumeFrameData frame = read_caustic_volume_frame_data(dump);
   EXPECT_EQ(frame.width, 128u);
   EXPECT_GT(frame.volume_count(), 100u);
-  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_GPUBENCH) + " " + dump + " --repetitions 2", output);
-  ASSERT_EQ(code, 0) << output;
-  std::stringstream timings;
-  timings << std::ifstream(dump + "/gpu_timings.json").rdbuf();
-  EXPECT_NE(timings.str().find("\"method\": \"caustic_volume\""), std::string::npos) << timings.str();
-  EXPECT_NE(timings.str().find("\"volumes\": " + std::to_string(frame.volume_count())), std::string::npos) << timings.str();
-  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
-  EXPECT_EQ(code, 0) << output;
-  EXPECT_NE(output.find("): agree"), std::string::npos) << output;
-  std::vector<float> wrong = read_floats(dump + "/vulkan_irradiance.bin");
-  for (float& value : wrong) value *= 0.99f;
-  write_floats(dump + "/vulkan_irradiance.bin", wrong);
-  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
-  EXPECT_EQ(code, 1) << output;
-  std::vector<float> volumes = read_floats(dump + "/volumes.bin");
-  volumes.resize(volumes.size() - 5);
-  write_floats(dump + "/volumes.bin", volumes);
-  code = causticbench::testing::run_command(std::string(CAUSTICBENCH_BINARY) + " gpu-compare " + dump, output);
-  EXPECT_EQ(code, 2) << output;
-  EXPECT_NE(output.find("volumes.bin is not whole volumes"), std::string::npos) << output;
+  causticbench::testing::expect_replay_round_trip(CAUSTICBENCH_GPUBENCH, CAUSTICBENCH_BINARY, dump, "caustic_volume",
+                                                  "\"volumes\": " + std::to_string(frame.volume_count()), "volumes.bin",
+                                                  5, "volumes.bin is not whole volumes");
 }
