@@ -70,6 +70,7 @@ CausticVolumeMethod::Footprint footprint_of(const Volume& volume, const CameraFr
 }  // namespace
 
 void CausticVolumeMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
+  ++update_count_;
   volumes_.clear();
   footprints_.clear();
   statistics_ = caustic_volume::BeamStatistics{};

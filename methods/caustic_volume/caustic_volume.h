@@ -59,6 +59,8 @@ class CausticVolumeMethod : public CausticMethod, public GpuBackend {
   struct GpuState;
   // The volumes, their footprints as triangle fans and the receivers as the device takes them.
   void fill_frame_data(const GBuffer& gbuffer, caustic_volume::Intensity intensity, CausticVolumeFrameData& frame) const;
+  // Its volumes and footprints only (an image of width x height).
+  void fill_volume_data(int width, int height, CausticVolumeFrameData& frame) const;
   Image render_on_device(const GBuffer& gbuffer, caustic_volume::Intensity intensity);
 
   std::unique_ptr<GpuState> gpu_;  // created by the first render with backend: vulkan
@@ -71,6 +73,7 @@ class CausticVolumeMethod : public CausticMethod, public GpuBackend {
   double t_max_used_ = 0.0;
   int tessellation_ = 0;
   uint64_t point_tests_ = 0, sheets_ = 0, shadow_rays_ = 0;  // of the last render
+  uint64_t update_count_ = 0;  // updates so far: the device keeps the volumes of one
 };
 
 }  // namespace causticbench

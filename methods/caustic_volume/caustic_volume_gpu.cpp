@@ -16,6 +16,7 @@ struct CausticVolumeMethod::GpuState {
   std::unique_ptr<gpu::Context> context;
   std::unique_ptr<VulkanCausticVolume> vulkan;
   CausticVolumeFrameData frame;
+  uint64_t volumes_of_update = 0;  // the update whose volumes `frame` holds (0: none)
   double kernel_ms = 0.0;
   bool last_render = false;  // the last render ran on the device
 };
@@ -69,6 +70,10 @@ void CausticVolumeMethod::fill_frame_data(const GBuffer& gbuffer, caustic_volume
   fill_receiver_arrays(gbuffer, frame.receiver_positions, frame.receiver_normals);
   frame.receiver_objects.assign(gbuffer.object.begin(), gbuffer.object.end());
   frame.intensity = intensity == caustic_volume::Intensity::constant ? 1u : 0u;
+  fill_volume_data(gbuffer.width, gbuffer.height, frame);
+}
+
+void CausticVolumeMethod::fill_volume_data(int width, int height, CausticVolumeFrameData& frame) const {
   frame.volumes.clear();
   frame.footprints.clear();
   for (size_t v = 0; v < volumes_.size(); ++v) {
@@ -91,7 +96,7 @@ void CausticVolumeMethod::fill_frame_data(const GBuffer& gbuffer, caustic_volume
     push(volume.lower, 0.0);
     push(volume.upper, 0.0);
     for (int j = 0; j < 3; ++j) push(volume.k[j], volume.k_dot_d0[j]);
-    add_footprint(footprints_[v], gbuffer.width, gbuffer.height, static_cast<float>(v), frame.footprints);
+    add_footprint(footprints_[v], width, height, static_cast<float>(v), frame.footprints);
   }
 }
 
@@ -101,7 +106,20 @@ Image CausticVolumeMethod::render_on_device(const GBuffer& gbuffer, caustic_volu
     gpu_->context = std::make_unique<gpu::Context>();
     gpu_->vulkan = std::make_unique<VulkanCausticVolume>(*gpu_->context);
   }
-  fill_frame_data(gbuffer, intensity, gpu_->frame);
+  // The volumes and footprints are the update's: built once for the renders that follow it (pixel samples,
+  // repetitions), the receivers every render.
+  CausticVolumeFrameData& frame = gpu_->frame;
+  const bool same_image =
+      frame.width == static_cast<uint32_t>(gbuffer.width) && frame.height == static_cast<uint32_t>(gbuffer.height);
+  if (gpu_->volumes_of_update != update_count_ || !same_image) {
+    fill_volume_data(gbuffer.width, gbuffer.height, frame);
+    gpu_->volumes_of_update = update_count_;
+  }
+  frame.width = static_cast<uint32_t>(gbuffer.width);
+  frame.height = static_cast<uint32_t>(gbuffer.height);
+  fill_receiver_arrays(gbuffer, frame.receiver_positions, frame.receiver_normals);
+  frame.receiver_objects.assign(gbuffer.object.begin(), gbuffer.object.end());
+  frame.intensity = intensity == caustic_volume::Intensity::constant ? 1u : 0u;
   std::vector<float> counts;
   const std::vector<float> rgba = gpu_->vulkan->render(gpu_->frame, gpu_->kernel_ms, &counts);
   // The same counters as the CPU's, summed per pixel by the blending (exact in float to 2^24 a pixel).
