@@ -58,6 +58,14 @@ class CausticMappingMethod : public CausticMethod, public GpuBackend {
   // The last update's tracer (and its frame): what fill_frame_data rasterises. dump_frame follows the
   // render of that frame while it lives (method_runner.cpp).
   const Tracer* tracer_ = nullptr;
+  // The scene as the device rasterises it (frame_data.h's vertices and objects), with what it was built
+  // for: fill_frame_data builds it again only when that changes (mutable: a cache of a const function's).
+  struct DeviceGeometry {
+    const Scene* scene = nullptr;
+    std::vector<double> key;
+    std::vector<float> vertices, objects;
+  };
+  mutable DeviceGeometry geometry_;
   caustic_mapping::PassStatistics statistics_;
   std::vector<std::string> skipped_lights_;  // environment lights: no light view (declared, not modelled)
 };

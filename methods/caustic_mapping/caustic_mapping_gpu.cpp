@@ -72,43 +72,63 @@ void CausticMappingMethod::fill_frame_data(CausticMappingFrameData& frame) const
   frame.splat_radius = static_cast<float>(settings_.splat_radius);
   frame.splat_photons = static_cast<float>(settings_.splat_photons);
   frame.max_splat_radius = static_cast<float>(settings_.max_splat_radius);
-  frame.vertices.clear(), frame.objects.clear(), frame.views.clear(), frame.passes.clear();
+  frame.views.clear(), frame.passes.clear();
   frame.strengths.clear(), frame.measures.clear(), frame.photon_measures.clear();
   const Tracer& tracer = *tracer_;
   const SceneFrame& scene = tracer.frame();
 
   // The scene's triangles, and d_N at the vertices of glass that may take two interfaces: a ray from the
-  // vertex along its inward normal to the object's far side (Wyman's per-vertex precomputation).
+  // vertex along its inward normal to the object's far side (Wyman's per-vertex precomputation). Kept
+  // while no object moves or changes shape (the key: the tessellation, the refraction mode, every
+  // object's transform, and the frame where a shape changes with it), so a static scene builds them once.
   const bool two = settings_.refraction != caustic_mapping::Settings::Refraction::one_interface;
+  std::vector<double> key = {static_cast<double>(raster_segments(settings_)), two ? 1.0 : 0.0};
   for (size_t object = 0; object < scene.scene->objects.size(); ++object) {
-    const Material& material = scene.scene->objects[object].material;
-    const SurfaceMesh mesh = surface_mesh(scene, static_cast<int>(object), raster_segments(settings_));
-    std::vector<float> normal_depth(mesh.positions.size(), 0.0f);
-    if (material.kind == MaterialKind::glass && two)
-      parallel_blocks(mesh.positions.size(), 1024, [&](size_t begin, size_t end, size_t) {
-        for (size_t i = begin; i < end; ++i) {
-          const Vec3 inward = -Vec3(mesh.normals[i]);
-          SurfaceHit hit;
-          if (tracer.intersect(Ray{Vec3(mesh.positions[i]) + inward * tracer.epsilon(), inward}, hit) &&
-              hit.object == static_cast<int>(object))
-            normal_depth[i] = hit.t + tracer.epsilon();
-        }
-      });
-    for (const glm::uvec3& triangle : mesh.triangles)
-      for (int corner = 0; corner < 3; ++corner) {
-        const uint32_t i = triangle[corner];
-        const glm::dvec3 &p = mesh.positions[i], &n = mesh.normals[i];
-        frame.vertices.insert(frame.vertices.end(), {float(p.x), float(p.y), float(p.z), float(object), float(n.x),
-                                                     float(n.y), float(n.z), normal_depth[i]});
-      }
-    auto push = [&](const Color& c, float w) { frame.objects.insert(frame.objects.end(), {c.r, c.g, c.b, w}); };
-    frame.objects.insert(frame.objects.end(), {material_code(material.kind), material.receives_caustics() ? 1.0f : 0.0f,
-                                               material.ior, material.conductor ? 1.0f : 0.0f});
-    push(material.reflectance, 0.0f);
-    push(material.eta, 0.0f);
-    push(material.k, 0.0f);
-    push(material.absorption, 0.0f);
+    const glm::dmat4& matrix = scene.transforms[object].matrix;
+    for (int column = 0; column < 4; ++column)
+      for (int row = 0; row < 4; ++row) key.push_back(matrix[column][row]);
+    if (scene.scene->objects[object].shape.changes_with_frame()) key.push_back(scene.frame);
   }
+  if (key != geometry_.key || geometry_.scene != scene.scene) {
+    geometry_.key = std::move(key);
+    geometry_.scene = scene.scene;
+    geometry_.vertices.clear();
+    geometry_.objects.clear();
+    for (size_t object = 0; object < scene.scene->objects.size(); ++object) {
+      const Material& material = scene.scene->objects[object].material;
+      const SurfaceMesh mesh = surface_mesh(scene, static_cast<int>(object), raster_segments(settings_));
+      std::vector<float> normal_depth(mesh.positions.size(), 0.0f);
+      if (material.kind == MaterialKind::glass && two)
+        parallel_blocks(mesh.positions.size(), 1024, [&](size_t begin, size_t end, size_t) {
+          for (size_t i = begin; i < end; ++i) {
+            const Vec3 inward = -Vec3(mesh.normals[i]);
+            SurfaceHit hit;
+            if (tracer.intersect(Ray{Vec3(mesh.positions[i]) + inward * tracer.epsilon(), inward}, hit) &&
+                hit.object == static_cast<int>(object))
+              normal_depth[i] = hit.t + tracer.epsilon();
+          }
+        });
+      for (const glm::uvec3& triangle : mesh.triangles)
+        for (int corner = 0; corner < 3; ++corner) {
+          const uint32_t i = triangle[corner];
+          const glm::dvec3 &p = mesh.positions[i], &n = mesh.normals[i];
+          geometry_.vertices.insert(geometry_.vertices.end(), {float(p.x), float(p.y), float(p.z), float(object),
+                                                               float(n.x), float(n.y), float(n.z), normal_depth[i]});
+        }
+      auto push = [&](const Color& c, float w) {
+        geometry_.objects.insert(geometry_.objects.end(), {c.r, c.g, c.b, w});
+      };
+      geometry_.objects.insert(geometry_.objects.end(),
+                               {material_code(material.kind), material.receives_caustics() ? 1.0f : 0.0f, material.ior,
+                                material.conductor ? 1.0f : 0.0f});
+      push(material.reflectance, 0.0f);
+      push(material.eta, 0.0f);
+      push(material.k, 0.0f);
+      push(material.absorption, 0.0f);
+    }
+  }
+  frame.vertices = geometry_.vertices;
+  frame.objects = geometry_.objects;
 
   for (const LightPass& pass : passes_) {
     if (!pass.plan.valid) continue;  // no light view: nothing to render or look up
