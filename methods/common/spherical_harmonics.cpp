@@ -69,6 +69,23 @@ void evaluate_basis(int bands, Real x, Real y, Real z, Real* out) {
   }
 }
 
+}  // namespace
+
+std::vector<float> basis_factors(int bands) {
+  check_bands(bands);
+  const Factors& f = factors();
+  const size_t n2 = static_cast<size_t>(bands) * bands;
+  std::vector<float> out(3 * n2);
+  for (size_t k = 0; k < n2; ++k) {
+    out[k] = static_cast<float>(f.scale[k]);
+    out[n2 + k] = static_cast<float>(f.along[k]);
+    out[2 * n2 + k] = static_cast<float>(f.back[k]);
+  }
+  return out;
+}
+
+namespace {
+
 template <typename Direction>
 std::vector<double> project_samples(int bands, const std::vector<Direction>& directions,
                                     const std::vector<double>& weights, const std::vector<double>& values) {

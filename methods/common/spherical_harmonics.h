@@ -30,6 +30,10 @@ inline int coefficient_index(int l, int m) { return l * l + l + m; }
 // (x + i y)^m), so no trigonometry and no division. The direction is not normalised here.
 void evaluate(int bands, const Vec3& unit_direction, float* out);
 void evaluate(int bands, const glm::dvec3& unit_direction, double* out);
+// The float factors evaluate() recurs with, for a kernel that repeats it (prt's lookup.comp): per
+// coefficient k < bands^2, the scale, then the recurrence's two factors (3 bands^2 floats, scale first;
+// 0 where evaluate() reads none).
+std::vector<float> basis_factors(int bands);
 
 // The Gauss-Legendre rule of `nodes` nodes on [-1, 1] (exact for polynomials of degree 2 nodes - 1):
 // its abscissas, descending, and weights (summing to 2), by Newton's iteration on P_nodes.

@@ -13,9 +13,6 @@
 
 namespace causticbench {
 
-PrtMethod::PrtMethod() = default;
-PrtMethod::~PrtMethod() = default;
-
 void PrtMethod::check_scene(const Scene& scene) const {
   require_specular_object(scene, "prt precomputes the transfer of specular objects");
 }
@@ -61,21 +58,32 @@ void PrtMethod::prepare(const PrepareContext& context, const ParamSet& build) {
     done_before += static_cast<size_t>(settings_.source_directions);
   }
   progress.finish();
+  ++builds_;
 }
 
 void PrtMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
   const auto start = std::chrono::steady_clock::now();
   const HarmonicWindow window = harmonic_window(frame_knobs.text("window"));
+  device_frame_ = frame_knobs.has("backend") && frame_knobs.text("backend") == "vulkan";
   for (ObjectTransfer& transfer : objects_) {
     transfer.map = build_space_map(scene_->objects[transfer.object], frame.frame.frame);
     const prt::FrameLighting lighting = projector_->project(frame.frame.lights, transfer.map, transfer.bounds.center, window);
     transfer.quadrature_points = lighting.quadrature_points;
-    transfer.incident = prt::incident_field(transfer.field, lighting.coefficients);
+    transfer.lighting.clear();
+    for (int c = 0; c < 3; ++c)
+      for (double value : lighting.coefficients[c]) transfer.lighting.push_back(static_cast<float>(value));
+    if (device_frame_) {
+      std::vector<float>().swap(transfer.incident);
+    } else {
+      transfer.incident = prt::incident_field(transfer.field, transfer.lighting);
+    }
   }
+  if (device_frame_) update_on_device();
   update_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 Image PrtMethod::render(const GBuffer& gbuffer, const ParamSet&) {
+  if (device_frame_) return render_on_device(gbuffer);
   Image result(gbuffer.width, gbuffer.height, 3);
   std::vector<double> evaluated((gbuffer.pixel_count() + 1023) / 1024, 0.0);
   parallel_blocks(gbuffer.pixel_count(), 1024, [&](size_t begin, size_t end, size_t block) {
@@ -99,7 +107,7 @@ Image PrtMethod::render(const GBuffer& gbuffer, const ParamSet&) {
 size_t PrtMethod::memory_bytes() const {
   size_t bytes = 0;
   for (const ObjectTransfer& transfer : objects_)
-    bytes += transfer.field.stored_bytes() + transfer.incident.size() * sizeof(float);
+    bytes += transfer.field.stored_bytes() + transfer.field.grid->points() * transfer.field.incident_stride() * sizeof(float);
   return bytes;
 }
 

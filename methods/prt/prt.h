@@ -17,7 +17,9 @@
 
 namespace causticbench {
 
-class PrtMethod : public CausticMethod, public BuildCache {
+struct PrtFrameData;
+
+class PrtMethod : public CausticMethod, public BuildCache, public GpuBackend {
  public:
   PrtMethod();
   ~PrtMethod() override;
@@ -39,6 +41,12 @@ class PrtMethod : public CausticMethod, public BuildCache {
   std::optional<nlohmann::json> build_dependencies(const PrepareContext& context, const ParamSet& build) const override;
   void save_build(const std::string& folder) const override;
   void load_build(const PrepareContext& context, const ParamSet& build, const std::string& folder) override;
+  // The Vulkan backend (backend: vulkan, prt_gpu.cpp): the frame's product and the lookup on the device;
+  // its milliseconds are both kernels' (the product of the last update, the lookup of the last render).
+  GpuBackend* gpu() override { return this; }
+  std::optional<double> gpu_render_milliseconds() const override;
+  void dump_frame(const GBuffer& gbuffer, const ParamSet& render, const Image& output,
+                  const std::string& folder) const override;
 
  private:
   struct ObjectTransfer {
@@ -50,11 +58,18 @@ class PrtMethod : public CausticMethod, public BuildCache {
     prt::TransferField field;
     // This frame's.
     BuildSpaceMap map;
-    std::vector<float> incident;
+    std::vector<float> lighting;  // 3 x n^2, the product's floats
+    std::vector<float> incident;  // backend: cpu
     size_t quadrature_points = 0;
   };
   // The objects, their balls and grids, without their matrices (prepare() shoots them, load_build() reads them).
   void plan(const PrepareContext& context, const ParamSet& build);
+  struct GpuState;
+  // backend: vulkan: the matrices uploaded once a build, the records and lighting, l = M L on the device.
+  void update_on_device();
+  Image render_on_device(const GBuffer& gbuffer);
+  // The frame data of the last update (the receivers left empty), for the device and the dump.
+  void fill_frame_data(PrtFrameData& frame, bool with_matrices) const;
 
   prt::TransferSettings settings_;
   const Scene* scene_ = nullptr;
@@ -62,6 +77,9 @@ class PrtMethod : public CausticMethod, public BuildCache {
   std::unique_ptr<prt::LightingProjector> projector_;
   double update_seconds_ = 0.0;
   double points_evaluated_ = 0.0;  // of the last render
+  uint64_t builds_ = 0;            // prepare() and load_build() calls (the device holds one build's matrices)
+  bool device_frame_ = false;      // the last update ran on the device (backend: vulkan)
+  std::unique_ptr<GpuState> gpu_;  // created by the first update with backend: vulkan
 };
 
 namespace prt {

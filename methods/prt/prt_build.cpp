@@ -120,6 +120,7 @@ void PrtMethod::load_build(const PrepareContext& context, const ParamSet& build,
     transfer.field.stats = PhotonStats{meta[i].value("emitted", uint64_t{0}), meta[i].value("deposited", uint64_t{0}),
                                        meta[i].value("rays", uint64_t{0})};
   }
+  ++builds_;
 }
 
 }  // namespace causticbench

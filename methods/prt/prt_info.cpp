@@ -43,6 +43,13 @@ const MethodInfo& PrtMethod::static_info() {
                           "a window on the lighting's bands (beyond the paper): none, or hanning / lanczos, which trade "
                           "the ringing of a sharp light for blur and keep its total",
                           ParamPhase::frame),
+        // Added after prt's first runs were recorded: cpu stays out of their keys.
+        ParamSpec::choice("backend", "cpu", {"cpu", "vulkan"},
+                          "where the frame is computed: the CPU (l = M L per cell, then the lookup per receiver "
+                          "point), or Vulkan compute shaders (the matrices uploaded once a build, both steps on the "
+                          "device); the lighting is projected on the CPU for both",
+                          ParamPhase::frame)
+            .unkeyed_at_default(),
     };
     Capabilities& c = m.capabilities;
     c.reflection = c.refraction = true;

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include <immintrin.h>
 
@@ -11,6 +12,7 @@
 #include "core/tracer.h"
 #include "methods/common/harmonic_lighting.h"
 #include "methods/common/photon_tracks.h"
+#include "methods/common/simd_lanes.h"
 
 namespace causticbench::prt {
 
@@ -107,44 +109,131 @@ bool has_f16c() {
   return available;
 }
 
-// A row of half floats widened into `out` (n values): eight at a time with F16C.
-__attribute__((target("avx2,f16c"))) void widen_f16c(const uint16_t* row, size_t n, float* out) {
-  size_t j = 0;
-  for (; j + 8 <= n; j += 8)
-    _mm256_storeu_ps(out + j, _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(row + j))));
-  for (; j < n; ++j) out[j] = _cvtsh_ss(row[j]);
+// Without F16C (and so without AVX2): one by one.
+void widen(const uint16_t* row, size_t n, float* out) {
+  for (size_t j = 0; j < n; ++j) out[j] = glm::unpackHalf1x16(row[j]);
 }
 
-void widen(const uint16_t* row, size_t n, float* out) {
-  if (has_f16c()) return widen_f16c(row, n, out);
-  for (size_t j = 0; j < n; ++j) out[j] = glm::unpackHalf1x16(row[j]);
+// The product's dot product in eight partial sums, s_r over j = r mod 8 in j's order, folded as
+// ((s0 + s4) + (s2 + s6)) + ((s1 + s5) + (s3 + s7)): the order AVX2's lanes sum in, which the scalar
+// version (processors without AVX2) and shaders/product.comp repeat, so that every processor sums alike.
+float dot_in_eight(const float* row, const float* light, size_t n) {
+  float s[8] = {};
+  for (size_t j = 0; j < n; ++j) s[j & 7] += row[j] * light[j];
+  const float t[4] = {s[0] + s[4], s[1] + s[5], s[2] + s[6], s[3] + s[7]};
+  return (t[0] + t[2]) + (t[1] + t[3]);
+}
+
+// `light` holds n rounded up to 8 floats, zeros after n; the row's lanes beyond n are masked (not read).
+CAUSTICBENCH_AVX2 float dot_in_eight_avx2(const float* row, const float* light, size_t n) {
+  __m256 s = _mm256_setzero_ps();
+  size_t j = 0;
+  for (; j + 8 <= n; j += 8) s = _mm256_add_ps(s, _mm256_mul_ps(_mm256_loadu_ps(row + j), _mm256_loadu_ps(light + j)));
+  if (j < n) {
+    const int left = static_cast<int>(n - j);
+    const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256i mask = _mm256_cmpgt_epi32(_mm256_set1_epi32(left), lanes);
+    s = _mm256_add_ps(s, _mm256_mul_ps(_mm256_maskload_ps(row + j, mask), _mm256_loadu_ps(light + j)));
+  }
+  const __m128 t = _mm_add_ps(_mm256_castps256_ps128(s), _mm256_extractf128_ps(s, 1));  // s_r + s_(r+4)
+  const __m128 u = _mm_add_ps(t, _mm_movehl_ps(t, t));                                    // t0 + t2, t1 + t3
+  return _mm_cvtss_f32(_mm_add_ss(u, _mm_shuffle_ps(u, u, 1)));
+}
+
+// The same over a row of half floats, widened in the lanes (F16C): the same floats as widening first.
+__attribute__((target("avx2,f16c"))) float dot_in_eight_f16c(const uint16_t* row, const float* light, size_t n) {
+  __m256 s = _mm256_setzero_ps();
+  size_t j = 0;
+  for (; j + 8 <= n; j += 8) {
+    const __m256 entries = _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(row + j)));
+    s = _mm256_add_ps(s, _mm256_mul_ps(entries, _mm256_loadu_ps(light + j)));
+  }
+  if (j < n) {
+    // The tail: the row's last eight entries (within it when n >= 8) moved down to lanes 0 .. left - 1, the
+    // rest zeroed; a shorter row through a zeroed copy. (A copy costs a failed store forwarding a row.)
+    const int left = static_cast<int>(n - j);
+    __m256 entries;
+    if (n >= 8) {
+      const __m256 last = _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(row + n - 8)));
+      const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+      const __m256i moved = _mm256_add_epi32(lanes, _mm256_set1_epi32(8 - left));
+      const __m256 keep = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(left), lanes));
+      entries = _mm256_and_ps(_mm256_permutevar8x32_ps(last, moved), keep);
+    } else {
+      uint16_t tail[8] = {};
+      for (size_t k = j; k < n; ++k) tail[k - j] = row[k];
+      entries = _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(tail)));
+    }
+    s = _mm256_add_ps(s, _mm256_mul_ps(entries, _mm256_loadu_ps(light + j)));
+  }
+  const __m128 t = _mm_add_ps(_mm256_castps256_ps128(s), _mm256_extractf128_ps(s, 1));
+  const __m128 u = _mm_add_ps(t, _mm_movehl_ps(t, t));
+  return _mm_cvtss_f32(_mm_add_ss(u, _mm_shuffle_ps(u, u, 1)));
+}
+
+// The lookup's trilinear sum of `count` (a multiple of 8) coefficients: per coefficient, the corners in
+// order, each weight times value added to the sum so far (the scalar order, lane by lane).
+void blend_corners(const Stencil& stencil, const float* incident, size_t stride, float* out) {
+  for (size_t k = 0; k < stride; ++k) out[k] = 0.0f;
+  for (int corner = 0; corner < stencil.count; ++corner) {
+    const float* values = incident + static_cast<size_t>(stencil.points[corner]) * stride;
+    for (size_t k = 0; k < stride; ++k) out[k] += stencil.weights[corner] * values[k];
+  }
+}
+
+CAUSTICBENCH_AVX2 void blend_corners_avx2(const Stencil& stencil, const float* incident, size_t stride, float* out) {
+  for (size_t k = 0; k < stride; k += 8) {
+    __m256 sum = _mm256_setzero_ps();
+    for (int corner = 0; corner < stencil.count; ++corner) {
+      const float* values = incident + static_cast<size_t>(stencil.points[corner]) * stride + k;
+      sum = _mm256_add_ps(sum, _mm256_mul_ps(_mm256_set1_ps(stencil.weights[corner]), _mm256_loadu_ps(values)));
+    }
+    _mm256_storeu_ps(out + k, sum);
+  }
 }
 
 }  // namespace
 
-std::vector<float> incident_field(const TransferField& field, const std::vector<double> lighting[3]) {
-  const size_t n2 = field.coefficients(), cells = field.grid->points();
-  std::vector<float> incident(cells * 3 * n2, 0.0f);
-  float light[3][kMaxBands * kMaxBands];
+float lane_dot(const float* row, const float* light, size_t n, bool lanes) {
+  return lanes ? dot_in_eight_avx2(row, light, n) : dot_in_eight(row, light, n);
+}
+
+float lane_dot(const uint16_t* row, const float* light, size_t n, bool lanes) {
+  if (lanes) return dot_in_eight_f16c(row, light, n);
+  float widened[kMaxBands * kMaxBands];
+  widen(row, n, widened);
+  return dot_in_eight(widened, light, n);
+}
+
+std::vector<float> incident_field(const TransferField& field, const std::vector<float>& lighting) {
+  const size_t n2 = field.coefficients(), cells = field.grid->points(), stride = field.incident_stride();
+  if (lighting.size() != 3 * n2) throw std::invalid_argument("prt::incident_field: the lighting is not 3 x bands^2 floats");
+  std::vector<float> incident(cells * stride, 0.0f);
+  // Each colour's lighting padded with zeros to whole lanes.
+  float light[3][kMaxBands * kMaxBands + 8] = {};
   for (int c = 0; c < 3; ++c)
-    for (size_t j = 0; j < n2; ++j) light[c][j] = static_cast<float>(lighting[c][j]);
+    for (size_t j = 0; j < n2; ++j) light[c][j] = lighting[static_cast<size_t>(c) * n2 + j];
+  const bool avx2 = simd::has_avx2(), f16c = has_f16c();
   parallel_blocks(cells, 512, [&](size_t begin, size_t end, size_t) {
+    float widened[kMaxBands * kMaxBands + 8] = {};
     for (size_t cell = begin; cell < end; ++cell) {
       const size_t first = cell * field.values_per_cell();
-      float widened[kMaxBands * kMaxBands];
-      float* out = incident.data() + cell * 3 * n2;
+      float* out = incident.data() + cell * stride;
       for (int c = 0; c < 3; ++c)
         for (size_t i = 0; i < n2; ++i) {
           const size_t at = first + (static_cast<size_t>(c) * n2 + i) * n2;
-          const float* row = widened;
+          float& result = out[static_cast<size_t>(c) * n2 + i];
           if (field.matrices.empty()) {
-            widen(field.halves.data() + at, n2, widened);
+            if (f16c) {
+              result = dot_in_eight_f16c(field.halves.data() + at, light[c], n2);
+            } else {
+              widen(field.halves.data() + at, n2, widened);
+              result = dot_in_eight(widened, light[c], n2);
+            }
           } else {
-            row = field.matrices.data() + at;
+            const float* row = field.matrices.data() + at;
+            result = avx2 ? dot_in_eight_avx2(row, light[c], n2) : dot_in_eight(row, light[c], n2);
           }
-          float sum = 0.0f;
-          for (size_t j = 0; j < n2; ++j) sum += row[j] * light[c][j];
-          out[static_cast<size_t>(c) * n2 + i] = sum;
         }
     }
   });
@@ -156,12 +245,13 @@ Color transfer_irradiance(const TransferField& field, const std::vector<float>& 
   const Vec3 offset = point - grid.center();
   const float half = grid.radius();
   if (std::abs(offset.x) > half || std::abs(offset.y) > half || std::abs(offset.z) > half) return Color(0.0f);
-  const size_t n2 = field.coefficients();
-  float coefficients[3 * kMaxBands * kMaxBands] = {};
+  const size_t n2 = field.coefficients(), stride = field.incident_stride();
+  float coefficients[3 * kMaxBands * kMaxBands + 8];
   const Stencil stencil = grid.stencil(point);
-  for (int corner = 0; corner < stencil.count; ++corner) {
-    const float* values = incident.data() + static_cast<size_t>(stencil.points[corner]) * 3 * n2;
-    for (size_t k = 0; k < 3 * n2; ++k) coefficients[k] += stencil.weights[corner] * values[k];
+  if (simd::has_avx2()) {
+    blend_corners_avx2(stencil, incident.data(), stride, coefficients);
+  } else {
+    blend_corners(stencil, incident.data(), stride, coefficients);
   }
   float basis[kMaxBands * kMaxBands];
   evaluate(field.bands, normal, basis);

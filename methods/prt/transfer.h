@@ -55,6 +55,8 @@ struct TransferField {
   double shoot_seconds = 0.0;
   size_t coefficients() const { return static_cast<size_t>(bands) * bands; }
   size_t values_per_cell() const { return 3 * coefficients() * coefficients(); }
+  // Floats a cell of the frame's incident field: 3 n^2 rounded up to whole lanes of eight (zeros after).
+  size_t incident_stride() const { return (3 * coefficients() + 7) / 8 * 8; }
 };
 
 // The grid of a field: the cube around the ball of settings.volume_radius bounding radii.
@@ -70,10 +72,16 @@ TransferField precompute_transfer(const Scene& build_scene, int object, const Bo
 // Replaces the field's floats by half floats (precision: float16).
 void store_as_halves(TransferField& field);
 
-// The frame's incident field: per cell, per colour, l = M L (3 x n^2 floats a cell), from the lighting
-// L per colour (3 x n^2 coefficients, build space). Half floats are widened with F16C where the
+// The frame's incident field: per cell, per colour, l = M L (3 x n^2 floats a cell, then zeros to
+// incident_stride()), from the lighting L (per colour n^2 coefficients, build space: 3 n^2 floats). Each
+// dot product sums in eight lanes in a fixed order (AVX2 where the processor has it, the same order in
+// scalar code elsewhere: the same floats either way). Half floats are widened with F16C where the
 // processor has it (every one with AVX2), else one by one: the same floats either way.
-std::vector<float> incident_field(const TransferField& field, const std::vector<double> lighting[3]);
+std::vector<float> incident_field(const TransferField& field, const std::vector<float>& lighting);
+// One of its dot products (n <= kMaxBands^2 entries, `light` padded with zeros to whole lanes of eight): in
+// AVX2 lanes (`lanes`: the processor must have AVX2 and F16C) or in scalar code. Both give the same bits.
+float lane_dot(const float* row, const float* light, size_t n, bool lanes);
+float lane_dot(const uint16_t* row, const float* light, size_t n, bool lanes);
 
 // E_c at a build-space point of unit build-space normal, from the frame's incident field: the field's
 // coefficients interpolated trilinearly between cell centres (held beyond the outermost), then the

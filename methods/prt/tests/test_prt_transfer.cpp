@@ -1,12 +1,15 @@
 // methods/prt/transfer.h: neighbourhood transfer by photon tracks. A flat mirror under a smooth sky
 // stores the mirrored sky (within the band limit, the mirror's finite size and the photons' noise); a
 // diffuse object stores nothing (only light after a specular interaction is the caustic's); the
-// spherical Fibonacci directions are equal-area; a field is the same for any thread count.
+// spherical Fibonacci directions are equal-area; a field is the same for any thread count; the frame's
+// product sums alike in AVX2 lanes and in scalar code.
 #include <cmath>
 
+#include <glm/gtc/packing.hpp>
 #include <gtest/gtest.h>
 
 #include "core/parallel.h"
+#include "core/sampling.h"
 #include "methods/common/harmonic_lighting.h"
 #include "methods/prt/transfer.h"
 #include "tests/test_support.h"
@@ -66,7 +69,9 @@ TEST(PrtTransfer, FlatMirrorStoresTheMirroredSky) {
   const TransferField field = precompute_transfer(scene, 0, frame.bounds[0], settings, nullptr);
   const glm::dvec3 up(0.0, 1.0, 0.0);
   const std::vector<double> lighting = sky(settings.bands, up);
-  const std::vector<double> per_colour[3] = {lighting, lighting, lighting};
+  std::vector<float> per_colour;
+  for (int c = 0; c < 3; ++c)
+    for (double value : lighting) per_colour.push_back(static_cast<float>(value));
   const std::vector<float> incident = incident_field(field, per_colour);
   // The field from below: R (1 + |w_y|) for w_y < 0, zero above; projected on the quadrature.
   const SphereQuadrature quadrature = product_quadrature(kMaxBands);
@@ -134,6 +139,33 @@ TEST(PrtTransfer, TheFieldIsTheSameForAnyThreadCount) {
     largest = std::max(largest, std::abs(static_cast<double>(one.matrices[i])));
   }
   EXPECT_GT(largest, 0.0);
+}
+
+// The frame's product sums each row in eight lanes in a fixed order, so the AVX2 lanes (with F16C for half
+// floats) and the scalar code every other processor runs give the same bits, for every row length prt
+// uses, including those that end inside a lane; and both are the dot product to float rounding.
+TEST(PrtTransfer, TheProductsLanesAndScalarCodeSumAlike) {
+  if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("f16c")) GTEST_SKIP() << "no AVX2 and F16C here";
+  Random random(5, 0);
+  for (int bands = 1; bands <= kMaxBands; ++bands) {
+    const size_t n = static_cast<size_t>(bands) * bands;
+    std::vector<float> row(n), light(n + 8, 0.0f);
+    std::vector<uint16_t> halves(n);
+    for (int trial = 0; trial < 50; ++trial) {
+      double exact = 0.0;
+      for (size_t j = 0; j < n; ++j) {
+        row[j] = (random.uniform() * 2.0f - 1.0f) * (j % 3 == 0 ? 1e3f : 1e-2f);
+        light[j] = (random.uniform() * 2.0f - 1.0f);
+        halves[j] = glm::packHalf1x16(row[j] * 1e-3f);
+        exact += double(row[j]) * light[j];
+      }
+      const float scalar = lane_dot(row.data(), light.data(), n, false);
+      ASSERT_EQ(scalar, lane_dot(row.data(), light.data(), n, true)) << "bands " << bands << " trial " << trial;
+      ASSERT_EQ(lane_dot(halves.data(), light.data(), n, false), lane_dot(halves.data(), light.data(), n, true))
+          << "bands " << bands << " trial " << trial;
+      EXPECT_NEAR(scalar, exact, 1e-3 * (1.0 + std::abs(exact)));
+    }
+  }
 }
 
 }  // namespace
