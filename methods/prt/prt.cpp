@@ -3,6 +3,7 @@
 // the build cache's view in prt_build.cpp.
 #include "methods/prt/prt.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include <fmt/format.h>
@@ -22,6 +23,7 @@ void PrtMethod::plan(const PrepareContext& context, const ParamSet& build) {
   scene_ = &context.scene;
   objects_.clear();
   projector_ = std::make_unique<prt::LightingProjector>(settings_.bands);
+  full_projector_ = std::make_unique<prt::LightingProjector>(prt::response_bands(settings_.source_directions));
   for (int object : context.rest.specular_objects()) {
     ObjectTransfer transfer;
     transfer.object = object;
@@ -56,6 +58,7 @@ void PrtMethod::prepare(const PrepareContext& context, const ParamSet& build) {
       progress.update(static_cast<double>(done_before + done), transfer.name);
     });
     done_before += static_cast<size_t>(settings_.source_directions);
+    transfer.response = prt::response_harmonics(transfer.field.direction_response);
   }
   progress.finish();
   ++builds_;
@@ -140,27 +143,70 @@ nlohmann::json PrtMethod::record() const {
                        {"source_directions", settings_.source_directions},
                        {"precompute_seconds", transfer.field.shoot_seconds},
                        {"environment_points_projected", transfer.quadrature_points}});
+    if (transfer.response)
+      objects.back()["band_limit"] = {{"full_fluence", transfer.band_energy.full},
+                                      {"band_limited_fluence", transfer.band_energy.band_limited},
+                                      {"change", transfer.band_energy.change()},
+                                      {"response_top_band_share", transfer.response->top_band_share}};
   }
-  return {{"objects", objects}, {"update_seconds", update_seconds_}};
+  return {{"objects", objects},
+          {"update_seconds", update_seconds_},
+          {"lost_beyond_ball", lost_beyond_ball_},
+          {"lost_to_band_limit", band_limit_known_ ? nlohmann::json(lost_to_band_limit_) : nlohmann::json(nullptr)}};
 }
 
 // Probe photons from this frame's lights at each object, through the whole scene: the flux of the
-// objects' caustics that first lands beyond the ball its grid covers, which the field does not hold.
+// objects' caustics that first lands beyond the ball its grid covers, which the field does not hold. Then
+// per object the fluence the band limit loses: the frame's lighting projected unwindowed to as many bands
+// as the build's response resolves, against the lighting the product used (band_limit.h).
 std::optional<LostFlux> PrtMethod::lost_flux(const FrameContext& frame, const GBuffer&, const ParamSet&) {
   BallLoss loss;
   for (const ObjectTransfer& transfer : objects_)
     loss.add(frame.frame, frame.tracer, transfer.object, transfer.bounds, transfer.volume_radius);
   const double needed = loss.needed;
+  lost_beyond_ball_ = loss.fraction();
+  double full = 0.0, band_limited = 0.0;
+  band_limit_known_ = !objects_.empty();
+  for (ObjectTransfer& transfer : objects_) {
+    if (!transfer.response || transfer.lighting.empty() || transfer.response->bands <= settings_.bands) {
+      band_limit_known_ = false;
+      continue;
+    }
+    const BuildSpaceMap map = build_space_map(scene_->objects[transfer.object], frame.frame.frame);
+    const prt::FrameLighting lighting =
+        full_projector_->project(frame.frame.lights, map, transfer.bounds.center, HarmonicWindow::none);
+    transfer.band_energy = prt::band_limit_energy(*transfer.response, settings_.bands, transfer.lighting, lighting.coefficients);
+    full += transfer.band_energy.full;
+    band_limited += transfer.band_energy.band_limited;
+  }
+  lost_to_band_limit_ = band_limit_known_ && full > 0.0 ? std::max(0.0, (full - band_limited) / full) : 0.0;
   LostFlux lost;
-  lost.fraction = loss.fraction();
-  lost.what = "caustic flux whose first receiver hit lies outside the transfer grid's ball";
-  lost.knob = "volume_radius";
+  lost.fraction = 1.0 - (1.0 - lost_beyond_ball_) * (1.0 - lost_to_band_limit_);
+  lost.what = fmt::format("caustic flux whose first receiver hit lies outside the transfer grid's ball ({:.3g} %), and "
+                          "the fluence in the grid the band limit loses ({})",
+                          100.0 * lost_beyond_ball_,
+                          band_limit_known_ ? fmt::format("{:.3g} %", 100.0 * lost_to_band_limit_)
+                          : objects_.empty() || objects_.front().response
+                              ? fmt::format("unknown: {} source directions resolve the response to {} bands, no more "
+                                            "than sh_order",
+                                            settings_.source_directions, prt::response_bands(settings_.source_directions))
+                              : std::string("unknown: a build stored before it was measured"));
   const double cap = ball_radius_cap(settings_.grid_resolution);
-  lost.advice = settings_.volume_radius > 0.0
-                    ? fmt::format("set volume_radius: auto (this frame needs about {:.3g} bounding radii)", needed)
-                    : fmt::format("the receivers lie beyond {:.3g} bounding radii, the largest ball auto chooses at this "
-                                  "grid_resolution; raise it or set volume_radius (needs about {:.3g})",
-                                  cap, needed);
+  if (lost_to_band_limit_ > lost_beyond_ball_) {
+    lost.knob = "sh_order";
+    lost.advice = settings_.bands < kMaxBands
+                      ? fmt::format("raise sh_order (now {}): the lighting's bands beyond it carry light the object "
+                                    "sends into the grid",
+                                    settings_.bands)
+                      : std::string("sh_order is at its largest: the lighting is sharper than prt can hold");
+  } else {
+    lost.knob = "volume_radius";
+    lost.advice = settings_.volume_radius > 0.0
+                      ? fmt::format("set volume_radius: auto (this frame needs about {:.3g} bounding radii)", needed)
+                      : fmt::format("the receivers lie beyond {:.3g} bounding radii, the largest ball auto chooses at "
+                                    "this grid_resolution; raise it or set volume_radius (needs about {:.3g})",
+                                    cap, needed);
+  }
   return lost;
 }
 

@@ -12,6 +12,7 @@
 
 #include "methods/common/build_space.h"
 #include "methods/method.h"
+#include "methods/prt/band_limit.h"
 #include "methods/prt/lighting.h"
 #include "methods/prt/transfer.h"
 
@@ -34,7 +35,8 @@ class PrtMethod : public CausticMethod, public BuildCache, public GpuBackend {
   size_t memory_bytes() const override;
   Counters counters() const override;
   nlohmann::json record() const override;
-  // The flux whose first receiver hit lies outside an object's grid (ball_radius.h's probes).
+  // The flux whose first receiver hit lies outside an object's grid (ball_radius.h's probes), and the fluence
+  // the band limit loses (band_limit.h), combined as 1 - (1 - beyond) (1 - band limit).
   std::optional<LostFlux> lost_flux(const FrameContext& frame, const GBuffer& gbuffer, const ParamSet& render) override;
   std::vector<MemoryTerm> knob_memory(const PrepareContext& context, const ParamSet& knobs) const override;
   BuildCache* build_cache() override { return this; }
@@ -56,11 +58,13 @@ class PrtMethod : public CausticMethod, public BuildCache, public GpuBackend {
     double volume_radius = 3.0;
     std::string volume_radius_reason;
     prt::TransferField field;
+    std::optional<prt::ResponseHarmonics> response;  // from field.direction_response (none: a build stored before it)
     // This frame's.
     BuildSpaceMap map;
     std::vector<float> lighting;  // 3 x n^2, the product's floats
     std::vector<float> incident;  // backend: cpu
     size_t quadrature_points = 0;
+    prt::BandLimitEnergy band_energy;  // of the last lost_flux()
   };
   // The objects, their balls and grids, without their matrices (prepare() shoots them, load_build() reads them).
   void plan(const PrepareContext& context, const ParamSet& build);
@@ -75,6 +79,9 @@ class PrtMethod : public CausticMethod, public BuildCache, public GpuBackend {
   const Scene* scene_ = nullptr;
   std::vector<ObjectTransfer> objects_;
   std::unique_ptr<prt::LightingProjector> projector_;
+  std::unique_ptr<prt::LightingProjector> full_projector_;  // the response's bands, unwindowed: the band limit's loss
+  double lost_beyond_ball_ = 0.0, lost_to_band_limit_ = 0.0;  // of the last lost_flux()
+  bool band_limit_known_ = false;
   double update_seconds_ = 0.0;
   double points_evaluated_ = 0.0;  // of the last render
   uint64_t builds_ = 0;            // prepare() and load_build() calls (the device holds one build's matrices)

@@ -84,7 +84,8 @@ void PrtMethod::save_build(const std::string& folder) const {
                     {"precompute_seconds", transfer.field.shoot_seconds},
                     {"emitted", transfer.field.stats.emitted},
                     {"deposited", transfer.field.stats.deposited},
-                    {"rays", transfer.field.stats.rays}});
+                    {"rays", transfer.field.stats.rays},
+                    {"direction_response", transfer.field.direction_response}});
   }
   write_text_atomically((std::filesystem::path(folder) / "transfer.json").string(), meta.dump(2) + "\n");
 }
@@ -119,6 +120,10 @@ void PrtMethod::load_build(const PrepareContext& context, const ParamSet& build,
     transfer.field.shoot_seconds = meta[i].value("precompute_seconds", 0.0);
     transfer.field.stats = PhotonStats{meta[i].value("emitted", uint64_t{0}), meta[i].value("deposited", uint64_t{0}),
                                        meta[i].value("rays", uint64_t{0})};
+    // Stored since the band limit's loss is measured; a build from before has none (reported unknown).
+    transfer.field.direction_response = meta[i].value("direction_response", std::vector<double>{});
+    if (transfer.field.direction_response.size() == 3 * static_cast<size_t>(settings_.source_directions))
+      transfer.response = prt::response_harmonics(transfer.field.direction_response);
   }
   ++builds_;
 }

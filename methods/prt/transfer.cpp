@@ -69,6 +69,12 @@ TransferField precompute_transfer(const Scene& build_scene, int object, const Bo
     CausticPhotonTracer photon_tracer(tracer, PhotonTracerSettings{settings.seed}, lights.frames(), {object});
     std::vector<double>& total =
         sums.accumulate(photon_tracer, static_cast<uint64_t>(s) << 32, settings.photons_per_direction, deposit, field.stats);
+    // F(w_s) per colour: sqrt(4 pi) V sum_cells l_0 with l = total / (V photons), summed in cell order.
+    for (int c = 0; c < 3; ++c) {
+      double fluence = 0.0;
+      for (size_t cell = 0; cell < cells; ++cell) fluence += total[cell * per_cell + static_cast<size_t>(c) * n2];
+      field.direction_response.push_back(fluence * std::sqrt(4.0 * kPiDouble) / photons);
+    }
     double source[kMaxBands * kMaxBands];
     evaluate(bands, glm::dvec3(directions[s]), source);
     // M_ij += l_i Y_j(w_s) 4 pi / N, cells in parallel (each its own rows); cells the beam missed skipped.

@@ -51,6 +51,9 @@ struct TransferField {
   std::vector<uint16_t> halves;  // precision: float16
   size_t stored_values() const { return matrices.empty() ? halves.size() : matrices.size(); }
   size_t stored_bytes() const { return matrices.size() * sizeof(float) + halves.size() * sizeof(uint16_t); }
+  // Per source direction (fibonacci_directions order), per colour: the fluence a unit-irradiance beam from it
+  // leaves in the grid, sqrt(4 pi) V sum over cells of l_0 (band_limit.h); empty for a build stored before it.
+  std::vector<double> direction_response;
   PhotonStats stats;
   double shoot_seconds = 0.0;
   size_t coefficients() const { return static_cast<size_t>(bands) * bands; }

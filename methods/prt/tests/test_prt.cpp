@@ -54,11 +54,13 @@ TEST(Prt, SmoothLobeOnTheGlassSphereMatchesTheReference) {
 }
 
 // precision: float16 stores the matrices in half floats: the image is float32's to half precision, and a
-// float16 build stored in the build cache and loaded again renders the same bits.
+// float16 build stored in the build cache and loaded again renders the same bits and measures the same
+// band-limit loss.
 TEST(Prt, Float16MatricesAgreeWithFloat32AndReloadBitIdentically) {
   const Scene scene = scene_from_yaml(kSmallGlassSphere);
-  const std::vector<std::string> knobs = {"sh_order=4", "grid_resolution=16", "volume_radius=4", "source_directions=32",
-                                          "photons_per_direction=4000"};
+  // 50 directions resolve the band limit's loss to 5 bands (band_limit.h), which the reload must keep too.
+  const std::vector<std::string> knobs = {"sh_order=4", "grid_resolution=16", "volume_radius=4", "source_directions=50",
+                                          "photons_per_direction=2560"};
   std::vector<std::string> half = knobs;
   half.push_back("precision=float16");
   const FrameResult full = render(scene, "prt", knobs), halved = render(scene, "prt", half);
@@ -90,6 +92,12 @@ TEST(Prt, Float16MatricesAgreeWithFloat32AndReloadBitIdentically) {
   for (size_t pixel = 0; pixel < computed.pixel_count(); ++pixel)
     for (int c = 0; c < 3; ++c) different += computed.at(pixel, c) != loaded.at(pixel, c);
   EXPECT_EQ(different, 0u);
+  auto band_limit = [&](const std::string& run) {
+    const nlohmann::json record = nlohmann::json::parse(std::ifstream(folder.path(run) + "/record.json"));
+    return record.at("method_record").at("objects")[0].at("band_limit");
+  };
+  EXPECT_GT(band_limit("computed").at("full_fluence").get<double>(), 0.0);
+  EXPECT_EQ(band_limit("computed"), band_limit("loaded"));
 }
 
 }  // namespace
