@@ -221,6 +221,14 @@ void CausticPhotonTracer::walk(uint64_t index, PhotonStats& stats, OnReceiver&& 
   }
   EmissionDraws draws(random, sobol ? &*sobol : nullptr, point);
   if (!emit(draws, ray, power)) return;
+  follow(random, ray, power, nullptr, stats, on_receiver, on_segment);
+}
+
+// The path from an emitted ray on. With `differential`, its ray differentials are carried along: moved
+// to every hit and turned by every reflection and refraction (core/ray_differential.h).
+template <class OnReceiver, class OnSegment>
+void CausticPhotonTracer::follow(Random& random, Ray ray, Color power, RayDifferential* differential, PhotonStats& stats,
+                                 OnReceiver&& on_receiver, OnSegment&& on_segment) const {
   const Scene& scene = *tracer_.frame().scene;
   float initial = max_component(power);
   int specular_bounces = 0;
@@ -236,6 +244,7 @@ void CausticPhotonTracer::walk(uint64_t index, PhotonStats& stats, OnReceiver&& 
       on_segment(PathSegment{ray.origin, ray.direction, found ? hit.t : std::numeric_limits<float>::infinity(), carried});
     }
     if (!found) return;
+    if (differential) transfer_differential(*differential, ray.direction, hit.t, hit.geometric_normal);
     // The segment just travelled was inside a glass medium (also when it ends on a surface inside
     // it, such as a pool floor under water): Beer-Lambert absorption over its length.
     if (medium) power *= glm::exp(-medium->absorption * hit.t);
@@ -249,21 +258,38 @@ void CausticPhotonTracer::walk(uint64_t index, PhotonStats& stats, OnReceiver&& 
       }
       if (material.kind != MaterialKind::diffuse_mirror) return;
     }
-    Vec3 normal = glm::dot(ray.direction, hit.shading_normal) < 0.0f ? hit.shading_normal : -hit.shading_normal;
+    const bool flipped = glm::dot(ray.direction, hit.shading_normal) >= 0.0f;
+    Vec3 normal = flipped ? -hit.shading_normal : hit.shading_normal;
     float cos_incident = -glm::dot(ray.direction, normal);
+    Vec3 dn_du(0.0f), dn_dv(0.0f);
+    if (differential) {
+      dn_du = tracer_.shading_normal_change(hit, differential->dp_du);
+      dn_dv = tracer_.shading_normal_change(hit, differential->dp_dv);
+      if (flipped) dn_du = -dn_du, dn_dv = -dn_dv;
+    }
     Vec3 next;
+    bool refracted = false;
+    float eta = 1.0f;
     if (material.kind == MaterialKind::glass) {
-      float eta = from_outside ? material.ior : 1.0f / material.ior;
+      eta = from_outside ? material.ior : 1.0f / material.ior;
       float reflectance = fresnel_dielectric(cos_incident, eta);
       // Choosing reflection with probability F and refraction with 1 - F leaves the power unchanged.
       if (random.uniform() < reflectance || !refract(ray.direction, normal, eta, next)) {
         next = reflect(ray.direction, normal);
       } else {
         medium = from_outside ? &material : nullptr;
+        refracted = true;
       }
     } else {
       power *= material.mirror_reflectance(cos_incident);
       next = reflect(ray.direction, normal);
+    }
+    if (differential) {
+      if (refracted) {
+        refract_differential(*differential, ray.direction, normal, dn_du, dn_dv, eta);
+      } else {
+        reflect_differential(*differential, ray.direction, normal, dn_du, dn_dv);
+      }
     }
     ++specular_bounces;
     if (specular_bounces >= settings_.roulette_after) {
@@ -274,6 +300,20 @@ void CausticPhotonTracer::walk(uint64_t index, PhotonStats& stats, OnReceiver&& 
     if (max_component(power) <= 0.0f) return;
     ray = tracer_.spawn(hit, next);
   }
+  ++stats.cut;
+  stats.cut_flux += luminance(power);
+}
+
+void CausticPhotonTracer::trace_emitted(uint64_t index, const Ray& ray, const Color& power, RayDifferential differential,
+                                        PhotonStats& stats, const DifferentialVisit& visit) const {
+  Random random(settings_.seed, index);
+  ++stats.emitted;
+  follow(
+      random, ray, power, &differential, stats,
+      [&](const SurfaceHit& hit, const Vec3& arrival_normal, const Vec3& direction, const Color& carried) {
+        visit(hit, arrival_normal, direction, carried, differential);
+      },
+      [](const PathSegment&) {});
 }
 
 void CausticPhotonTracer::trace_one(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats) const {

@@ -11,6 +11,7 @@
 #include <functional>
 #include <vector>
 
+#include "core/ray_differential.h"
 #include "core/sampling.h"
 #include "core/tracer.h"
 
@@ -49,10 +50,14 @@ struct PhotonStats {
   uint64_t emitted = 0;
   uint64_t deposited = 0;
   uint64_t rays = 0;
+  uint64_t cut = 0;        // paths still bouncing after max_bounces (their flux never lands)
+  double cut_flux = 0.0;   // their luminance flux, W (as the photons carry it)
   void add(const PhotonStats& other) {
     emitted += other.emitted;
     deposited += other.deposited;
     rays += other.rays;
+    cut += other.cut;
+    cut_flux += other.cut_flux;
   }
 };
 
@@ -102,6 +107,16 @@ class CausticPhotonTracer {
   // Traces the same path as trace_one(index) and calls `visit` for each of its PathSegments, in order.
   void trace_segments(uint64_t index, PhotonStats& stats, const std::function<void(const PathSegment&)>& visit) const;
 
+  // A photon the caller emits (its own emission map: methods/rt_photons), from `ray` with `power` (W, as
+  // emit() gives them) and the ray differentials of its emission, carried through every specular
+  // interaction (core/ray_differential.h). Its path draws from Random(seed, index) as trace_one's does
+  // after emission. `visit(hit, arrival_normal, direction, power, differential)` where it meets a
+  // receiver after at least one specular bounce, the differential transferred to that hit.
+  using DifferentialVisit =
+      std::function<void(const SurfaceHit&, const Vec3&, const Vec3&, const Color&, const RayDifferential&)>;
+  void trace_emitted(uint64_t index, const Ray& ray, const Color& power, RayDifferential differential,
+                     PhotonStats& stats, const DifferentialVisit& visit) const;
+
   // Total flux (luminance, W) that the lights send towards the targets' bounding spheres.
   double aimed_flux() const { return total_weight_; }
   // Sum of the targets' bounding-sphere cross-sections, pi r^2 each (m^2): the area a directional
@@ -114,6 +129,9 @@ class CausticPhotonTracer {
   bool emit(EmissionDraws& draws, Ray& ray, Color& power) const;
   template <class OnReceiver, class OnSegment>
   void walk(uint64_t index, PhotonStats& stats, OnReceiver&& on_receiver, OnSegment&& on_segment) const;
+  template <class OnReceiver, class OnSegment>
+  void follow(Random& random, Ray ray, Color power, RayDifferential* differential, PhotonStats& stats,
+              OnReceiver&& on_receiver, OnSegment&& on_segment) const;
 
   const Tracer& tracer_;
   PhotonTracerSettings settings_;

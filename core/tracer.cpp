@@ -166,13 +166,15 @@ bool Tracer::intersect(const Ray& ray, SurfaceHit& hit) const {
     const Transform& transform = frame_->transforms[object];
     glm::dvec3 local = glm::dvec3(transform.inverse * glm::dvec4(glm::dvec3(ray.origin) + glm::dvec3(ray.direction) *
                                                                      static_cast<double>(hit.t), 1.0));
-    glm::dvec3 normal = analytic_normal(scene_object.shape, static_cast<int>(rayhit.hit.u), local);
+    hit.part = static_cast<int>(rayhit.hit.u);
+    glm::dvec3 normal = analytic_normal(scene_object.shape, hit.part, local);
     hit.geometric_normal = hit.shading_normal = transform.normal(Vec3(normal));
   } else {
     const TriangleMesh& mesh = frame_->world_meshes[object];
     const glm::uvec3& triangle = mesh.triangles[hit.primitive];
     Vec3 p0 = mesh.positions[triangle.x], p1 = mesh.positions[triangle.y], p2 = mesh.positions[triangle.z];
     hit.geometric_normal = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    hit.u = rayhit.hit.u, hit.v = rayhit.hit.v;
     if (mesh.smooth) {
       float u = rayhit.hit.u, v = rayhit.hit.v;
       Vec3 n = (1.0f - u - v) * mesh.normals[triangle.x] + u * mesh.normals[triangle.y] + v * mesh.normals[triangle.z];
@@ -182,6 +184,46 @@ bool Tracer::intersect(const Ray& ray, SurfaceHit& hit) const {
     }
   }
   return true;
+}
+
+Vec3 Tracer::shading_normal_change(const SurfaceHit& hit, const Vec3& step) const {
+  const SceneObject& scene_object = frame_->scene->objects[hit.object];
+  if (scene_object.shape.is_analytic()) {
+    const Transform& transform = frame_->transforms[hit.object];
+    const glm::dvec3 local = glm::dvec3(transform.inverse * glm::dvec4(glm::dvec3(hit.position), 1.0));
+    const glm::dvec3 local_step = glm::dvec3(transform.inverse * glm::dvec4(glm::dvec3(step), 0.0));
+    const double length = glm::length(local_step);
+    if (!(length > 0.0)) return Vec3(0.0f);
+    // A step of 1e-5 of the shape's size: the normals are smooth, and the central difference's error is
+    // of the step squared.
+    glm::dvec3 lower, upper;
+    analytic_bounds(scene_object.shape, lower, upper);
+    const double h = 1e-5 * glm::length(upper - lower) / length;
+    // Normals turn with the inverse transpose, in double: a float normal's rounding would swamp the difference.
+    const glm::dmat3 normal_matrix = glm::transpose(glm::dmat3(transform.inverse));
+    auto world_normal = [&](double s) {
+      return glm::normalize(normal_matrix * analytic_normal(scene_object.shape, hit.part, local + s * local_step));
+    };
+    return Vec3((world_normal(h) - world_normal(-h)) / (2.0 * h));
+  }
+  const TriangleMesh& mesh = frame_->world_meshes[hit.object];
+  if (!mesh.smooth) return Vec3(0.0f);
+  const glm::uvec3& triangle = mesh.triangles[hit.primitive];
+  const Vec3 e1 = mesh.positions[triangle.y] - mesh.positions[triangle.x];
+  const Vec3 e2 = mesh.positions[triangle.z] - mesh.positions[triangle.x];
+  // The step in barycentric coordinates: least squares of step = a e1 + b e2 (exact for a step in the plane).
+  const float g11 = glm::dot(e1, e1), g12 = glm::dot(e1, e2), g22 = glm::dot(e2, e2);
+  const float determinant = g11 * g22 - g12 * g12;
+  if (!(determinant > 0.0f)) return Vec3(0.0f);
+  const float r1 = glm::dot(step, e1), r2 = glm::dot(step, e2);
+  const float a = (g22 * r1 - g12 * r2) / determinant, b = (g11 * r2 - g12 * r1) / determinant;
+  const Vec3& n0 = mesh.normals[triangle.x];
+  const Vec3 raw = (1.0f - hit.u - hit.v) * n0 + hit.u * mesh.normals[triangle.y] + hit.v * mesh.normals[triangle.z];
+  const Vec3 raw_change = a * (mesh.normals[triangle.y] - n0) + b * (mesh.normals[triangle.z] - n0);
+  const float length = glm::length(raw);
+  if (!(length > 0.0f)) return Vec3(0.0f);
+  const Vec3 unit = raw / length;
+  return (raw_change - unit * glm::dot(unit, raw_change)) / length;
 }
 
 bool Tracer::occluded(const Vec3& origin, const Vec3& direction, float t_max) const {

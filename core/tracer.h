@@ -18,6 +18,8 @@ struct SurfaceHit {
   Vec3 shading_normal{0.0f};    // outward, unit; exact for analytic shapes, interpolated for smooth meshes
   int object = -1;
   unsigned primitive = 0;
+  int part = 0;                 // an analytic shape's surface (a cup's wall or bottom: shape.h)
+  float u = 0.0f, v = 0.0f;     // a triangle's barycentric coordinates of the hit (weights of its 2nd and 3rd vertex)
 };
 
 class Tracer {
@@ -29,6 +31,11 @@ class Tracer {
 
   bool intersect(const Ray& ray, SurfaceHit& hit) const;
   bool occluded(const Vec3& origin, const Vec3& direction, float t_max) const;
+  // How the hit's unit shading normal changes as the point moves by `step` along the surface (first
+  // order; ray differentials, core/ray_differential.h). Analytic shapes: central differences of their
+  // exact normal in double precision; smooth meshes: the interpolated normal's derivative across the
+  // triangle; flat faces: zero.
+  Vec3 shading_normal_change(const SurfaceHit& hit, const Vec3& step) const;
 
   const SceneFrame& frame() const { return *frame_; }
   // Offset that moves a ray origin off a surface to avoid self-intersection, in scene units.
