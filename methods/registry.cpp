@@ -12,6 +12,7 @@
 #include "methods/photon_map/photon_map.h"
 #include "methods/pinhole/pinhole.h"
 #include "methods/reference/reference.h"
+#include "methods/rt_photons/rt_photons.h"
 
 namespace causticbench {
 
@@ -32,6 +33,7 @@ std::vector<MethodEntry>& mutable_registry() {
       entry<CausticMappingMethod>(),
       entry<CausticVolumeMethod>(),
       entry<PrtMethod>(),
+      entry<RtPhotonsMethod>(),
   };
   return registry;
 }
