@@ -135,6 +135,7 @@ std::vector<SequenceOutput> play_sequence(CausticMethod& method, const std::vect
   const int passes = (protocol.warm_up ? 1 : 0) + std::max(1, protocol.repetitions);
   for (int pass = 0; pass < passes; ++pass) {
     const bool timed = !protocol.warm_up || pass > 0;
+    method.begin_sequence();
     for (size_t f = 0; f < frames.size(); ++f) {
       const PosedFrame& posed = *frames[f];
       auto start = Clock::now();

@@ -174,6 +174,10 @@ class CausticMethod {
   // Throws InputError when the scene cannot be represented at all (before any work starts).
   virtual void check_scene(const Scene& scene) const {}
   virtual void prepare(const PrepareContext& context, const ParamSet& build) = 0;
+  // Called at the start of every pass over a run's frames (each timed repetition, and the warm-up): a
+  // method that carries state from frame to frame (rt_photons' adaptive emission map and history buffer)
+  // resets it here, so that every pass measures the same work. The default: nothing carried.
+  virtual void begin_sequence() {}
   // Called for every frame before render(), with the frame knobs of the run; the same prepared
   // instance may see different frame knobs from one call to the next.
   virtual void update(const FrameContext& frame, const ParamSet& frame_knobs) = 0;

@@ -46,8 +46,8 @@ float weight_at(const LandedPhoton& photon, const Kernel& kernel, const GBuffer&
 
 // The ellipse of the covariance a_u a_u^T + a_v a_v^T in the tangent plane (its axes e1, e2 and radii),
 // each radius clamped to [min, max] pixels of `pixel_size` (scene units a pixel there).
-void shape_kernel(const LandedPhoton& photon, const SplatSettings& settings, float pixel_size, Kernel& kernel,
-                  SplatCounts& counts) {
+float shape_kernel(const LandedPhoton& photon, const SplatSettings& settings, float pixel_size, Kernel& kernel,
+                   SplatCounts& counts) {
   Vec3 t1, t2;
   orthonormal_basis(photon.normal, t1, t2);
   float radius1 = 0.0f, radius2 = 0.0f;
@@ -66,6 +66,7 @@ void shape_kernel(const LandedPhoton& photon, const SplatSettings& settings, flo
     kernel.e1 = t1, kernel.e2 = t2;
     radius1 = radius2 = settings.footprint == Footprint::ray_cone ? photon.cone_width : settings.fixed_pixels * pixel_size;
   }
+  const float unclamped = std::sqrt(radius1 * radius2) / pixel_size;
   const float low = settings.min_pixels * pixel_size, high = settings.max_pixels * pixel_size;
   if (!(radius2 >= low) || !(radius1 >= low)) ++counts.clamped_small;
   if (!(radius1 <= high)) ++counts.clamped_large;
@@ -73,40 +74,47 @@ void shape_kernel(const LandedPhoton& photon, const SplatSettings& settings, flo
   radius2 = std::clamp(std::isfinite(radius2) ? radius2 : high, low, high);
   kernel.inverse_a2 = 1.0f / (radius1 * radius1);
   kernel.inverse_b2 = 1.0f / (radius2 * radius2);
+  return unclamped;
 }
 
-// The kernel's weight times area over the pixels of [x0, x1] x [y0, y1] outside the image, each pixel's
-// point the meeting of its camera ray with the photon's plane, its area the pixel's footprint there (as
-// core/gbuffer.cpp computes it).
+// The kernel's weight times area at the point where pixel (x, y)'s camera ray meets the photon's plane, the
+// area the pixel's footprint there (as core/gbuffer.cpp computes it); 0 where the ray does not meet it.
+// `t_plane` receives the ray's distance to the plane.
+double virtual_share(const LandedPhoton& photon, const Kernel& kernel, const CameraFrame& camera, const Vec3& view_axis,
+                     int x, int y, float* t_plane = nullptr) {
+  const Ray ray = camera.primary_ray(x, y);
+  const float facing = glm::dot(ray.direction, photon.normal);
+  if (std::abs(facing) < 1e-6f) return 0.0;
+  const float t = glm::dot(photon.position - ray.origin, photon.normal) / facing;
+  if (t_plane) *t_plane = t;
+  if (!(t > 0.0f)) return 0.0;
+  const Vec3 offset = ray.origin + t * ray.direction - photon.position;
+  const float s = glm::dot(offset, kernel.e1), u = glm::dot(offset, kernel.e2);
+  const float r2 = s * s * kernel.inverse_a2 + u * u * kernel.inverse_b2;
+  if (r2 >= 1.0f) return 0.0;
+  const float along_view = t * std::abs(glm::dot(ray.direction, view_axis));
+  const float side = camera.pixel_footprint(along_view) / std::sqrt(std::max(0.05f, std::abs(facing)));
+  return double((1.0f - r2) * (1.0f - r2)) * side * side;
+}
+
+// Over the pixels of [x0, x1] x [y0, y1] outside the image.
 double outside_share(const LandedPhoton& photon, const Kernel& kernel, const CameraFrame& camera, const Vec3& view_axis,
                      int width, int height, int x0, int y0, int x1, int y1) {
   double share = 0.0;
   for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x) {
-      if (x >= 0 && x < width && y >= 0 && y < height) continue;
-      const Ray ray = camera.primary_ray(x, y);
-      const float facing = glm::dot(ray.direction, photon.normal);
-      if (std::abs(facing) < 1e-6f) continue;
-      const float t = glm::dot(photon.position - ray.origin, photon.normal) / facing;
-      if (!(t > 0.0f)) continue;
-      const Vec3 offset = ray.origin + t * ray.direction - photon.position;
-      const float s = glm::dot(offset, kernel.e1), u = glm::dot(offset, kernel.e2);
-      const float r2 = s * s * kernel.inverse_a2 + u * u * kernel.inverse_b2;
-      if (r2 >= 1.0f) continue;
-      const float along_view = t * std::abs(glm::dot(ray.direction, view_axis));
-      const float side = camera.pixel_footprint(along_view) / std::sqrt(std::max(0.05f, std::abs(facing)));
-      share += double((1.0f - r2) * (1.0f - r2)) * side * side;
-    }
+    for (int x = x0; x <= x1; ++x)
+      if (x < 0 || x >= width || y < 0 || y >= height) share += virtual_share(photon, kernel, camera, view_axis, x, y);
   return share;
 }
 
 }  // namespace
 
 Image splat_photons(const std::vector<LandedPhoton>& photons, const CameraFrame& camera, const GBuffer& gbuffer,
-                    const SplatSettings& settings, SplatCounts& counts) {
+                    const SplatSettings& settings, SplatCounts& counts, std::vector<float>* footprint_pixels) {
   const int width = gbuffer.width, height = gbuffer.height;
   Image result(width, height, 3);
   std::vector<Kernel> kernels(photons.size());
+  std::vector<float> unclamped(photons.size(), 0.0f);
   const Vec3 view_axis = camera.primary_ray(width / 2, height / 2).direction;  // as core/gbuffer.cpp
   std::vector<SplatCounts> block_counts((photons.size() + 4095) / 4096);
   // Per photon: the kernel, its bounds and its normaliser.
@@ -131,7 +139,7 @@ Image splat_photons(const std::vector<LandedPhoton>& photons, const CameraFrame&
         size = gbuffer.footprint[static_cast<size_t>(y) * width + x];
         if (!(size > 0.0f)) size = camera.pixel_footprint(glm::length(photon.position - camera.position()));
       }
-      shape_kernel(photon, settings, size, kernel, local);
+      unclamped[p] = shape_kernel(photon, settings, size, kernel, local);
       const float radius = 1.0f / std::sqrt(std::min(kernel.inverse_a2, kernel.inverse_b2));
       // Pixel bounds: the images of the four points along the axes at the larger radius, a pixel wider.
       double lower_x = centre->x, upper_x = centre->x, lower_y = centre->y, upper_y = centre->y;
@@ -146,26 +154,40 @@ Image splat_photons(const std::vector<LandedPhoton>& photons, const CameraFrame&
       // A kernel larger than the image is one that a clamp could not bound (a photon at the eye's plane).
       if (static_cast<double>(x1 - x0 + 1) * (y1 - y0 + 1) > 16.0 * width * height) {
         ++local.hidden, local.hidden_flux += luminance(photon.power);
+        unclamped[p] = 0.0f;
         continue;
       }
       kernel.x0 = std::max(0, x0), kernel.y0 = std::max(0, y0);
       kernel.x1 = std::min(width - 1, x1), kernel.y1 = std::min(height - 1, y1);
+      // The kernel's share on points of its surface some pixel sees, and on those it would see but for an
+      // occluder in front (a pixel whose point lies nearer than the photon's plane along its ray) or the
+      // image's edge: taken on the photon's plane, they count in the normaliser and get nothing, so that
+      // a photon partly hidden puts in view only the share that lands in view. Where the surface itself
+      // ends (the point behind the plane, the receivers' edge, the background) the kernel is cut and the
+      // seen share takes the whole flux.
+      double in_view = 0.0, unseen = 0.0;
       for (int y = kernel.y0; y <= kernel.y1; ++y)
         for (int x = kernel.x0; x <= kernel.x1; ++x) {
           const size_t pixel = static_cast<size_t>(y) * width + x;
           const float w = weight_at(photon, kernel, gbuffer, pixel);
-          if (w > 0.0f) kernel.normaliser += double(w) * gbuffer.footprint[pixel] * gbuffer.footprint[pixel];
+          if (w > 0.0f) {
+            in_view += double(w) * gbuffer.footprint[pixel] * gbuffer.footprint[pixel];
+          } else if (gbuffer.object[pixel] >= 0) {
+            float t_plane = 0.0f;
+            const double share = virtual_share(photon, kernel, camera, view_axis, x, y, &t_plane);
+            const float t_seen = glm::length(gbuffer.position[pixel] - camera.primary_ray(x, y).origin);
+            if (share > 0.0 && t_seen < t_plane - 2.0f * gbuffer.footprint[pixel]) unseen += share;
+          }
         }
-      // Beyond the image the surface is not seen but goes on: the kernel's share there is taken on the
-      // photon's plane (each outside pixel's ray met with it, as the G-buffer would), so that it counts in
-      // the normaliser and a photon at the image's edge puts inside only the share that lands inside.
-      if (kernel.normaliser > 0.0 && (x0 < 0 || y0 < 0 || x1 >= width || y1 >= height))
-        kernel.normaliser += outside_share(photon, kernel, camera, view_axis, width, height, x0, y0, x1, y1);
+      if (in_view > 0.0 && (x0 < 0 || y0 < 0 || x1 >= width || y1 >= height))
+        unseen += outside_share(photon, kernel, camera, view_axis, width, height, x0, y0, x1, y1);
+      kernel.normaliser = in_view > 0.0 ? in_view + unseen : 0.0;
       if (kernel.normaliser > 0.0) {
         ++local.splatted, local.splatted_flux += luminance(photon.power);
       } else {
         ++local.hidden, local.hidden_flux += luminance(photon.power);
         kernel.x1 = kernel.x0 - 1;
+        unclamped[p] = 0.0f;
       }
     }
   });
@@ -214,6 +236,7 @@ Image splat_photons(const std::vector<LandedPhoton>& photons, const CameraFrame&
     counts.splatted_flux += local.splatted_flux, counts.hidden_flux += local.hidden_flux;
   }
   for (uint64_t pixels : tile_pixels) counts.pixels += pixels;
+  if (footprint_pixels) *footprint_pixels = std::move(unclamped);
   return result;
 }
 

@@ -35,6 +35,7 @@ struct LandedPhoton {
   Color power{0.0f};
   Vec3 axis_u{0.0f}, axis_v{0.0f};
   float cone_width = 0.0f;
+  uint32_t texel = 0;  // the emission texel it left (its index in the frame's texel list)
 };
 
 struct SplatSettings {
@@ -54,8 +55,10 @@ struct SplatCounts {
   double hidden_flux = 0.0;
 };
 
-// E_c per pixel (RGB) from `photons` (their flux already divided by nothing: each carries its own W).
+// E_c per pixel (RGB) from `photons` (each carries its own flux, W). With `footprint_pixels`, per photon
+// its kernel's radius in pixels before the clamps (the geometric mean of its axes; 0 for a photon no
+// pixel sees): what adaptive emission steers.
 Image splat_photons(const std::vector<LandedPhoton>& photons, const CameraFrame& camera, const GBuffer& gbuffer,
-                    const SplatSettings& settings, SplatCounts& counts);
+                    const SplatSettings& settings, SplatCounts& counts, std::vector<float>* footprint_pixels = nullptr);
 
 }  // namespace causticbench::rt_photons

@@ -48,37 +48,37 @@ TEST(RtPhotons, AFlatMirrorsBeamHasItsExactIrradianceInEveryMode) {
   }
 }
 
-// Photons scattered over a floor with a box standing on it and a mirror sphere above, seen in perspective,
-// some on the box's top, at its foot, beside the sphere and on the floor behind the box, at least the
-// largest kernel away from the image's edges: the splatted irradiance times each pixel's area sums to the
-// photons' flux, to float rounding, in every mode and for wide kernels cut by the box and the receivers'
-// edges.
+// Seen from straight above: a floor, a box standing on it and a mirror tile lying on the floor (same
+// plane, not a receiver). Photons on the box's top, some at its edges (the kernel spills over, onto a floor
+// far below: the surface ends there), and on the floor beside the mirror tile (the receivers' edge), none
+// where an occluder hides part of a kernel: the splatted irradiance times each pixel's area sums to the
+// photons' flux, to float rounding, in every mode, for kernels of 0.5 to 10 pixels.
 TEST(RtPhotons, EveryFootprintConservesFluxAtEdgesAndDiscontinuities) {
   const Scene scene = scene_from_yaml(R"(
-camera: {position: [0, 2.5, 3.0], look_at: [0, 0, 0], fov_degrees: 40, resolution: [128, 96]}
+camera: {type: orthographic, position: [0, 4, 0], look_at: [0, 0, 0], up: [0, 0, 1], view_height: 4, resolution: [128, 128]}
 lights: [{type: directional, direction: [0, -1, 0], irradiance: 1}]
 objects:
   - shape: {type: quad, size: [8, 8]}
     material: {type: diffuse, albedo: 0.8}
-  - shape: {type: box, size: [0.8, 0.6, 0.8]}
+  - shape: {type: box, size: [1.0, 0.6, 1.0]}
     material: {type: diffuse, albedo: 0.8}
-    transform: {translate: [0, 0.3, 0]}
-  - shape: {type: sphere, radius: 0.2}
+    transform: {translate: [-0.9, 0.3, 0]}
+  - shape: {type: quad, size: [0.8, 0.8]}
     material: {type: mirror}
-    transform: {translate: [1.5, 1.5, 0]}
+    transform: {translate: [0.9, 0.001, 0]}
 )");
   const SceneFrame frame(scene, 0.0);
   const Tracer tracer(frame);
   const GBuffer gbuffer = render_gbuffer(tracer);
-  // Photons where the camera's rays land (so that each lies on a surface a pixel sees), through a sub-pixel
-  // jitter, with footprints of 0.5 to 12 pixels' worth of surface in random directions.
   Random random(11, 0);
   std::vector<rt_photons::LandedPhoton> photons;
   double total = 0.0;
-  for (int i = 0; i < 400; ++i) {
-    const int x = 36 + static_cast<int>(random.uniform() * 56), y = 36 + static_cast<int>(random.uniform() * 24);
-    const size_t pixel = static_cast<size_t>(y) * 128 + x;
-    if (!gbuffer.receiver[pixel]) continue;
+  auto place = [&](float x, float z) {
+    // The pixel over (x, z): the camera's x runs along -world x (up is +z, looking down -y).
+    const int px = static_cast<int>((2.0f - x) / 4.0f * 128.0f), py = static_cast<int>((2.0f - z) / 4.0f * 128.0f);
+    if (px < 0 || px >= 128 || py < 0 || py >= 128) return;
+    const size_t pixel = static_cast<size_t>(py) * 128 + px;
+    if (!gbuffer.receiver[pixel]) return;
     rt_photons::LandedPhoton photon;
     photon.position = gbuffer.position[pixel];
     photon.normal = gbuffer.normal[pixel];
@@ -92,8 +92,10 @@ objects:
     photon.cone_width = std::sqrt(glm::length(glm::cross(photon.axis_u, photon.axis_v)));
     photons.push_back(photon);
     total += photon.power.r;
-  }
-  ASSERT_GT(photons.size(), 200u);
+  };
+  for (int i = 0; i < 200; ++i) place(-1.4f + 1.0f * random.uniform(), -0.5f + 1.0f * random.uniform());  // the box's top
+  for (int i = 0; i < 200; ++i) place(0.3f + 1.2f * random.uniform(), -0.6f + 1.2f * random.uniform());   // around the tile
+  ASSERT_GT(photons.size(), 250u);
   for (rt_photons::Footprint footprint :
        {rt_photons::Footprint::ray_differentials, rt_photons::Footprint::ray_cone, rt_photons::Footprint::fixed}) {
     rt_photons::SplatSettings settings;
@@ -113,26 +115,17 @@ objects:
   }
 }
 
-// A photon on the image's edge, seen straight down by an orthographic camera: half its kernel lies beyond
-// the image, so half its flux lands inside (to the pixels' discretisation of the kernel: 2 %), in every mode.
-TEST(RtPhotons, APhotonOnTheImagesEdgePutsInsideOnlyItsShareThere) {
-  const Scene scene = scene_from_yaml(R"(
-camera: {type: orthographic, position: [0, 3, 0], look_at: [0, 0, 0], up: [0, 0, 1], view_height: 2, resolution: [64, 64]}
-lights: [{type: directional, direction: [0, -1, 0], irradiance: 1}]
-objects:
-  - shape: {type: quad, size: [8, 8]}
-    material: {type: diffuse, albedo: 0.8}
-  - shape: {type: sphere, radius: 0.2}
-    material: {type: mirror}
-    transform: {translate: [0, 1.5, 0]}
-)");
+// One photon of unit flux with a 0.3 x 0.2 footprint on the floor of `scene_text` (its position from the
+// scene's G-buffer), splatted in every mode: the share of its flux on pixels whose point satisfies
+// `counted` is half, to the pixels' discretisation of the kernel (2 %).
+template <class Position, class Counted>
+void expect_half_in_view(const std::string& scene_text, Position position, Counted counted, const char* what) {
+  const Scene scene = scene_from_yaml(scene_text);
   const SceneFrame frame(scene, 0.0);
   const Tracer tracer(frame);
   const GBuffer gbuffer = render_gbuffer(tracer);
   rt_photons::LandedPhoton photon;
-  // The image's left edge, x = 0 in pixels, lies where the world's... found from the first column's points.
-  const Vec3 left = gbuffer.position[32 * 64], next = gbuffer.position[32 * 64 + 1];
-  photon.position = left - 0.5f * (next - left);  // half a pixel left of the first column's centre: the edge
+  photon.position = position(gbuffer);
   photon.normal = Vec3(0, 1, 0);
   photon.power = Color(1.0f);
   photon.axis_u = Vec3(0.3f, 0, 0), photon.axis_v = Vec3(0, 0, 0.2f);
@@ -146,10 +139,51 @@ objects:
     const Image image = rt_photons::splat_photons({photon}, frame.camera, gbuffer, settings, counts);
     double flux = 0.0;
     for (size_t pixel = 0; pixel < image.pixel_count(); ++pixel)
-      flux += image.at(pixel, 0) * double(gbuffer.footprint[pixel]) * gbuffer.footprint[pixel];
-    std::printf("footprint %d on the image's edge: %.4f of its flux inside\n", static_cast<int>(footprint), flux);
-    EXPECT_NEAR(flux, 0.5, 0.02);
+      if (counted(gbuffer.position[pixel]))
+        flux += image.at(pixel, 0) * double(gbuffer.footprint[pixel]) * gbuffer.footprint[pixel];
+    std::printf("footprint %d %s: %.4f of its flux in view\n", static_cast<int>(footprint), what, flux);
+    EXPECT_NEAR(flux, 0.5, 0.02) << what;
   }
+}
+
+// A photon on the floor at the edge of a plate held above it, seen from straight above: half its kernel
+// lies under the plate, hidden; half its flux lands in view.
+TEST(RtPhotons, APhotonHalfHiddenByAnOccluderPutsHalfItsFluxInView) {
+  expect_half_in_view(
+      R"(
+camera: {type: orthographic, position: [0, 4, 0], look_at: [0, 0, 0], up: [0, 0, 1], view_height: 2, resolution: [64, 64]}
+lights: [{type: directional, direction: [0, -1, 0], irradiance: 1}]
+objects:
+  - shape: {type: quad, size: [8, 8]}
+    material: {type: diffuse, albedo: 0.8}
+  - shape: {type: box, size: [2.0, 0.05, 4.0]}
+    material: {type: diffuse, albedo: 0.8}
+    transform: {translate: [1.0, 0.8, 0]}
+)",
+      [](const GBuffer&) { return Vec3(0.0f); },  // under the plate's edge (x = 0)
+      [](const Vec3& point) { return point.y < 0.4f; }, "half under a plate");
+}
+
+// A photon on the image's edge, seen straight down by an orthographic camera: half its kernel lies beyond
+// the image, so half its flux lands inside.
+TEST(RtPhotons, APhotonOnTheImagesEdgePutsInsideOnlyItsShareThere) {
+  expect_half_in_view(
+      R"(
+camera: {type: orthographic, position: [0, 3, 0], look_at: [0, 0, 0], up: [0, 0, 1], view_height: 2, resolution: [64, 64]}
+lights: [{type: directional, direction: [0, -1, 0], irradiance: 1}]
+objects:
+  - shape: {type: quad, size: [8, 8]}
+    material: {type: diffuse, albedo: 0.8}
+  - shape: {type: sphere, radius: 0.2}
+    material: {type: mirror}
+    transform: {translate: [0, 1.5, 0]}
+)",
+      [](const GBuffer& gbuffer) {
+        // Half a pixel beyond the first column's centre: the image's edge.
+        const Vec3 first = gbuffer.position[32 * 64], second = gbuffer.position[32 * 64 + 1];
+        return first - 0.5f * (second - first);
+      },
+      [](const Vec3&) { return true; }, "on the image's edge");
 }
 
 // Measured (seed 1): relMSE 0.0xx, energy 1.0xx at these knobs; the bounds leave room for another
