@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/image_statistics.h"
 #include "gpu/vulkan_context.h"
 
 namespace causticbench::testing {
@@ -29,6 +30,24 @@ objects:
     material: {type: mirror, reflectance: 0.9}
     transform: {translate: [0, 0.6, 0]}
 )";
+
+BackendRuns expect_backends_agree(const Scene& scene, const std::string& method, const std::vector<std::string>& knobs,
+                                  const std::string& what, double relmse_bound, double flux_bound) {
+  std::vector<std::string> vulkan_knobs = knobs;
+  vulkan_knobs.push_back("backend=vulkan");
+  BackendRuns runs{render(scene, method, knobs), render(scene, method, vulkan_knobs), what};
+  for (const std::string& knob : knobs) runs.label += " " + knob;
+  const std::vector<uint8_t>& receivers = runs.cpu.gbuffer.receiver;
+  const double cpu_flux = masked_sum(runs.cpu.caustic, receivers);
+  EXPECT_GT(cpu_flux, 0.0) << runs.label;
+  if (!(cpu_flux > 0.0)) return runs;
+  const double relmse = relative_mse(runs.vulkan.caustic, runs.cpu.caustic, receivers);
+  const double flux = masked_sum(runs.vulkan.caustic, receivers) / cpu_flux - 1.0;
+  std::printf("%s: vulkan against cpu relMSE %.3g, flux %+.3g\n", runs.label.c_str(), relmse, flux);
+  EXPECT_LT(relmse, relmse_bound) << runs.label;
+  EXPECT_LT(std::abs(flux), flux_bound) << runs.label;
+  return runs;
+}
 
 void expect_replay_round_trip(const std::string& gpubench, const std::string& binary, const std::string& dump,
                               const std::string& method, const std::string& fact, const std::string& damaged_file,

@@ -90,7 +90,6 @@ std::string read_whole_file(const std::filesystem::path& path);
 // Runs a shell command, returns its exit code and fills `output` with stdout+stderr.
 int run_command(const std::string& command, std::string& output);
 
-// A folder under the system's temporary folder, emptied when made and removed when destroyed.
 // The second half of a Vulkan backend's dump round trip, on a `dump` folder its method wrote: `gpubench`
 // (causticbench-gpubench's path) replays it, and gpu_timings.json names `method` and holds `fact`; `binary`
 // (causticbench's) gpu-compare finds the replay agreeing; the replay's output scaled by 0.99 disagrees
@@ -100,6 +99,18 @@ void expect_replay_round_trip(const std::string& gpubench, const std::string& bi
                               const std::string& method, const std::string& fact, const std::string& damaged_file,
                               size_t cut, const std::string& damage_message);
 
+// A Vulkan backend against its CPU backend: `method` rendered on `scene` with `knobs`, then with
+// backend=vulkan added. The relMSE over the CPU run's receivers and the flux ratio minus 1 are printed
+// after `what` and the knobs, and expected below `relmse_bound` and `flux_bound`; the CPU image must hold
+// light. Both runs come back (`label`: what and the knobs) for the method's own checks of its counters.
+struct BackendRuns {
+  FrameResult cpu, vulkan;
+  std::string label;
+};
+BackendRuns expect_backends_agree(const Scene& scene, const std::string& method, const std::vector<std::string>& knobs,
+                                  const std::string& what, double relmse_bound, double flux_bound);
+
+// A folder under the system's temporary folder, emptied when made and removed when destroyed.
 class TemporaryFolder {
  public:
   explicit TemporaryFolder(const std::string& name);

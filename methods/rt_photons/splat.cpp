@@ -77,12 +77,11 @@ float shape_kernel(const LandedPhoton& photon, const SplatSettings& settings, fl
   return unclamped;
 }
 
-// The kernel's weight times area at the point where pixel (x, y)'s camera ray meets the photon's plane, the
-// area the pixel's footprint there (as core/gbuffer.cpp computes it); 0 where the ray does not meet it.
+// The kernel's weight times area at the point where `ray` (a pixel's camera ray) meets the photon's plane,
+// the area the pixel's footprint there (as core/gbuffer.cpp computes it); 0 where the ray does not meet it.
 // `t_plane` receives the ray's distance to the plane.
 double virtual_share(const LandedPhoton& photon, const Kernel& kernel, const CameraFrame& camera, const Vec3& view_axis,
-                     int x, int y, float* t_plane = nullptr) {
-  const Ray ray = camera.primary_ray(x, y);
+                     const Ray& ray, float* t_plane = nullptr) {
   const float facing = glm::dot(ray.direction, photon.normal);
   if (std::abs(facing) < 1e-6f) return 0.0;
   const float t = glm::dot(photon.position - ray.origin, photon.normal) / facing;
@@ -103,7 +102,8 @@ double outside_share(const LandedPhoton& photon, const Kernel& kernel, const Cam
   double share = 0.0;
   for (int y = y0; y <= y1; ++y)
     for (int x = x0; x <= x1; ++x)
-      if (x < 0 || x >= width || y < 0 || y >= height) share += virtual_share(photon, kernel, camera, view_axis, x, y);
+      if (x < 0 || x >= width || y < 0 || y >= height)
+        share += virtual_share(photon, kernel, camera, view_axis, camera.primary_ray(x, y));
   return share;
 }
 
@@ -174,8 +174,9 @@ Image splat_photons(const std::vector<LandedPhoton>& photons, const CameraFrame&
             in_view += double(w) * gbuffer.footprint[pixel] * gbuffer.footprint[pixel];
           } else if (gbuffer.object[pixel] >= 0) {
             float t_plane = 0.0f;
-            const double share = virtual_share(photon, kernel, camera, view_axis, x, y, &t_plane);
-            const float t_seen = glm::length(gbuffer.position[pixel] - camera.primary_ray(x, y).origin);
+            const Ray ray = camera.primary_ray(x, y);
+            const double share = virtual_share(photon, kernel, camera, view_axis, ray, &t_plane);
+            const float t_seen = glm::length(gbuffer.position[pixel] - ray.origin);
             if (share > 0.0 && t_seen < t_plane - 2.0f * gbuffer.footprint[pixel]) unseen += share;
           }
         }

@@ -29,10 +29,6 @@ namespace {
 
 #define SKIP_WITHOUT_VULKAN() CAUSTICBENCH_SKIP_WITHOUT_VULKAN("caustic_mapping's backend: vulkan")
 
-struct Agreement {
-  double relmse, flux;
-};
-
 // How far the backends may differ. Where the scene's surfaces are triangles to the ray tracer too (a
 // quad mirror over a quad floor), the device repeats the CPU's every step on the same surfaces: only
 // float against double and the rasteriser's order of adding splats part them, and the counts agree to
@@ -52,21 +48,10 @@ Bounds tessellated() {
 // Both backends on one scene and knob set: the images agree within `bounds`, and so do their counts.
 void expect_backends_agree(const std::string& scene_text, const std::vector<std::string>& knobs, const std::string& what,
                            const Bounds& bounds) {
-  const Scene scene = scene_from_yaml(scene_text);
-  std::vector<std::string> vulkan_knobs = knobs;
-  vulkan_knobs.push_back("backend=vulkan");
-  const FrameResult cpu = render(scene, "caustic_mapping", knobs);
-  const FrameResult vulkan = render(scene, "caustic_mapping", vulkan_knobs);
-  const std::vector<uint8_t>& receivers = cpu.gbuffer.receiver;
-  const double cpu_flux = masked_sum(cpu.caustic, receivers);
-  ASSERT_GT(cpu_flux, 0.0) << what;
-  const Agreement measured{relative_mse(vulkan.caustic, cpu.caustic, receivers),
-                           masked_sum(vulkan.caustic, receivers) / cpu_flux - 1.0};
-  std::string text = what;
-  for (const std::string& knob : knobs) text += " " + knob;
-  std::printf("%s: vulkan against cpu relMSE %.3g, flux %+.3g\n", text.c_str(), measured.relmse, measured.flux);
-  EXPECT_LT(measured.relmse, bounds.relmse) << text;
-  EXPECT_LT(std::abs(measured.flux), bounds.flux) << text;
+  const causticbench::testing::BackendRuns runs = causticbench::testing::expect_backends_agree(
+      scene_from_yaml(scene_text), "caustic_mapping", knobs, what, bounds.relmse, bounds.flux);
+  const FrameResult &cpu = runs.cpu, &vulkan = runs.vulkan;
+  const std::string& text = runs.label;
   // The photons the device counts (covered texels, landed, receiver-map reads) are the CPU's within the
   // bounds' share.
   const auto counter = causticbench::testing::counter_value;

@@ -44,26 +44,13 @@ const std::vector<std::string> kSmallBuild = {"grid_resolution=12", "volume_radi
 // Both backends on one scene and knob set: the images agree within prt's dump-format bounds
 // (frame_replay.cpp; gpu-compare applies the same), and both count the same receiver points.
 void expect_backends_agree(const std::string& scene_text, std::vector<std::string> knobs, const std::string& what) {
-  const Scene scene = scene_from_yaml(scene_text);
   knobs.insert(knobs.end(), kSmallBuild.begin(), kSmallBuild.end());
-  std::vector<std::string> vulkan_knobs = knobs;
-  vulkan_knobs.push_back("backend=vulkan");
-  const FrameResult cpu = render(scene, "prt", knobs);
-  const FrameResult vulkan = render(scene, "prt", vulkan_knobs);
-  const std::vector<uint8_t>& receivers = cpu.gbuffer.receiver;
-  const double cpu_flux = masked_sum(cpu.caustic, receivers);
-  ASSERT_GT(cpu_flux, 0.0) << what;
-  const double relmse = relative_mse(vulkan.caustic, cpu.caustic, receivers);
-  const double flux = masked_sum(vulkan.caustic, receivers) / cpu_flux - 1.0;
-  std::string text = what;
-  for (const std::string& knob : knobs) text += " " + knob;
-  std::printf("%s: vulkan against cpu relMSE %.3g, flux %+.3g\n", text.c_str(), relmse, flux);
   const FrameDumpFormat& format = frame_dump_format("prt");
-  EXPECT_LT(relmse, format.relmse_tolerance) << text;
-  EXPECT_LT(std::abs(flux), format.flux_tolerance) << text;
-  EXPECT_EQ(causticbench::testing::counter_value(vulkan, "receiver_points"),
-            causticbench::testing::counter_value(cpu, "receiver_points"))
-      << text;
+  const causticbench::testing::BackendRuns runs = causticbench::testing::expect_backends_agree(
+      scene_from_yaml(scene_text), "prt", knobs, what, format.relmse_tolerance, format.flux_tolerance);
+  EXPECT_EQ(causticbench::testing::counter_value(runs.vulkan, "receiver_points"),
+            causticbench::testing::counter_value(runs.cpu, "receiver_points"))
+      << runs.label;
 }
 
 std::string glass_sphere_under_a_lobe() {
