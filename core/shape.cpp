@@ -382,23 +382,34 @@ bool intersect_analytic(const ShapeDesc& shape, const glm::dvec3& o, const glm::
   return closest.found;
 }
 
-glm::dvec3 analytic_normal(const ShapeDesc& shape, int surface, const glm::dvec3& p) {
+AffineNormal analytic_normal_field(const ShapeDesc& shape, int surface) {
+  AffineNormal field;
+  const glm::dmat3 radial(glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 0), glm::dvec3(0, 0, 1));  // (x, 0, z)
   switch (shape.kind) {
-    case ShapeKind::sphere: return glm::normalize(p);
-    case ShapeKind::disk: return glm::dvec3(0, 1, 0);
+    case ShapeKind::sphere: field.gradient = glm::dmat3(1.0); break;
     case ShapeKind::ring:
-    case ShapeKind::cup: {
-      if (shape.kind == ShapeKind::cup && surface == 1) return glm::dvec3(0, 1, 0);
-      if (surface == 2) return glm::dvec3(0, 1, 0);
-      if (surface == 3) return glm::dvec3(0, -1, 0);
-      glm::dvec3 radial = glm::normalize(glm::dvec3(p.x, 0.0, p.z));
-      return surface == 1 ? -radial : radial;  // a solid ring's inner wall faces the axis
-    }
+    case ShapeKind::cup:
+      if ((shape.kind == ShapeKind::cup && surface == 1) || surface == 2) {
+        field.offset = glm::dvec3(0, 1, 0);
+      } else if (surface == 3) {
+        field.offset = glm::dvec3(0, -1, 0);
+      } else {
+        field.gradient = surface == 1 ? -radial : radial;  // a solid ring's inner wall faces the axis
+      }
+      break;
     case ShapeKind::paraboloid:
       // Normal of the concave (upper) side: the side that focuses light coming from above.
-      return glm::normalize(glm::dvec3(-2.0 * p.x, 4.0 * shape.focal_length, -2.0 * p.z));
-    default: return glm::dvec3(0, 1, 0);
+      field.gradient = -2.0 * radial;
+      field.offset = glm::dvec3(0.0, 4.0 * shape.focal_length, 0.0);
+      break;
+    default: field.offset = glm::dvec3(0, 1, 0); break;  // a disk, and any flat shape
   }
+  return field;
+}
+
+glm::dvec3 analytic_normal(const ShapeDesc& shape, int surface, const glm::dvec3& p) {
+  const AffineNormal field = analytic_normal_field(shape, surface);
+  return glm::normalize(field.gradient * p + field.offset);
 }
 
 void analytic_bounds(const ShapeDesc& shape, glm::dvec3& lower, glm::dvec3& upper) {

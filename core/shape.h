@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <glm/vec2.hpp>
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 #include "core/config.h"
@@ -78,7 +79,17 @@ struct AnalyticHit {
 };
 bool intersect_analytic(const ShapeDesc& shape, const glm::dvec3& origin, const glm::dvec3& direction, double t_min,
                         double t_max, AnalyticHit& hit);
-// Outward unit normal of an analytic shape at an object-space point on the given surface.
+// Every analytic surface's outward normal, unnormalised, is affine in the object-space point: g(p) =
+// gradient p + offset (a sphere's p, a ring wall's radial (x, 0, z), a paraboloid's (-2x, 4f, -2z), a flat
+// face's constant). So the unit normal's change along a step s is (I - n n^T) gradient s / |g|, exactly:
+// what ray differentials need (Tracer::shading_normal_change), with no finite difference.
+struct AffineNormal {
+  glm::dmat3 gradient{0.0};
+  glm::dvec3 offset{0.0};
+};
+AffineNormal analytic_normal_field(const ShapeDesc& shape, int surface);
+// Outward unit normal of an analytic shape at an object-space point on the given surface: its affine
+// field's direction there.
 glm::dvec3 analytic_normal(const ShapeDesc& shape, int surface, const glm::dvec3& point);
 void analytic_bounds(const ShapeDesc& shape, glm::dvec3& lower, glm::dvec3& upper);
 

@@ -192,19 +192,16 @@ Vec3 Tracer::shading_normal_change(const SurfaceHit& hit, const Vec3& step) cons
     const Transform& transform = frame_->transforms[hit.object];
     const glm::dvec3 local = glm::dvec3(transform.inverse * glm::dvec4(glm::dvec3(hit.position), 1.0));
     const glm::dvec3 local_step = glm::dvec3(transform.inverse * glm::dvec4(glm::dvec3(step), 0.0));
-    const double length = glm::length(local_step);
-    if (!(length > 0.0)) return Vec3(0.0f);
-    // A step of 1e-5 of the shape's size: the normals are smooth, and the central difference's error is
-    // of the step squared.
-    glm::dvec3 lower, upper;
-    analytic_bounds(scene_object.shape, lower, upper);
-    const double h = 1e-5 * glm::length(upper - lower) / length;
-    // Normals turn with the inverse transpose, in double: a float normal's rounding would swamp the difference.
+    // The world normal's unnormalised field is N g(local) with N the inverse transpose; along the step it
+    // changes by N gradient local_step, and the unit normal by that less its part along the normal, over |g|.
+    const AffineNormal field = analytic_normal_field(scene_object.shape, hit.part);
     const glm::dmat3 normal_matrix = glm::transpose(glm::dmat3(transform.inverse));
-    auto world_normal = [&](double s) {
-      return glm::normalize(normal_matrix * analytic_normal(scene_object.shape, hit.part, local + s * local_step));
-    };
-    return Vec3((world_normal(h) - world_normal(-h)) / (2.0 * h));
+    const glm::dvec3 raw = normal_matrix * (field.gradient * local + field.offset);
+    const double length = glm::length(raw);
+    if (!(length > 0.0)) return Vec3(0.0f);
+    const glm::dvec3 unit = raw / length;
+    const glm::dvec3 raw_change = normal_matrix * (field.gradient * local_step);
+    return Vec3((raw_change - unit * glm::dot(unit, raw_change)) / length);
   }
   const TriangleMesh& mesh = frame_->world_meshes[hit.object];
   if (!mesh.smooth) return Vec3(0.0f);

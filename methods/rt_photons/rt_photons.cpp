@@ -3,6 +3,7 @@
 #include "methods/rt_photons/rt_photons.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -31,7 +32,12 @@ void RtPhotonsMethod::update(const FrameContext& frame, const ParamSet& knobs) {
   for (int object : scene.specular_objects()) targets.push_back(scene.bounds[object]);
   lights_ = scene.lights;
   grids_.clear();
-  for (const LightFrame& light : lights_) grids_.push_back(rt_photons::emission_grid(light, targets, scene.scene_bounds, resolution));
+  // An extended light's samples are redrawn every frame of a pass (the same in every pass).
+  const int light_samples = static_cast<int>(knobs.integer("light_samples"));
+  for (size_t l = 0; l < lights_.size(); ++l)
+    for (rt_photons::EmissionGrid& grid :
+         rt_photons::emission_grids(lights_[l], l, targets, scene.scene_bounds, resolution, light_samples, seed ^ 0x11647ull ^ (updates_ << 32)))
+      grids_.push_back(std::move(grid));
   // The densities carried from the last frame, where the grids still have their shapes (else uniform).
   bool same_shape = density_.size() == grids_.size();
   for (size_t g = 0; same_shape && g < grids_.size(); ++g) same_shape = density_[g].size() == grids_[g].texel_count();
@@ -83,9 +89,14 @@ void RtPhotonsMethod::update(const FrameContext& frame, const ParamSet& knobs) {
   settings.seed = seed;
   settings.max_bounces = max_bounces_;
   const CausticPhotonTracer tracer(frame.tracer, settings);
+  const auto trace_start = std::chrono::steady_clock::now();
   const size_t block = 64;
   const size_t blocks = (texels.size() + block - 1) / block;
-  std::vector<std::vector<rt_photons::LandedPhoton>> landed(blocks);
+  // Each block's landings; the vectors (and landed_) keep their capacity from frame to frame, so that a
+  // frame after the first allocates nothing (first touching fresh pages cost a fifth of the update).
+  std::vector<std::vector<rt_photons::LandedPhoton>>& landed = landed_blocks_;
+  landed.resize(blocks);
+  for (auto& block_photons : landed) block_photons.clear();
   std::vector<PhotonStats> block_stats(blocks);
   parallel_blocks(texels.size(), block, [&](size_t begin, size_t end, size_t b) {
     for (size_t i = begin; i < end; ++i) {
@@ -96,13 +107,15 @@ void RtPhotonsMethod::update(const FrameContext& frame, const ParamSet& knobs) {
       // estimates and temporal accumulation averages their noise away; the same in every pass.
       const ShiftedSobol points(seed ^ (updates_ << 24), grid.texel_count() * texel.grid + texel.texel);
       const double share = 1.0 / texel.expected;
-      const float spacing = grid.texel * static_cast<float>(std::sqrt(share));
+      // Its patch of the beam: its texel's share of the photons of every map overlapping its own.
+      const float spacing = grid.texel * static_cast<float>(std::sqrt(share / grid.overlapping));
       for (uint64_t j = 0; j < texel.photons; ++j) {
         Ray ray;
         Color power;
         RayDifferential differential;
         rt_photons::emit_photon(grid, texel.texel, points.uniform(static_cast<uint32_t>(j), 0),
-                                points.uniform(static_cast<uint32_t>(j), 1), share, ray, power, differential);
+                                points.uniform(static_cast<uint32_t>(j), 1), points.uniform(static_cast<uint32_t>(j), 2), share,
+                                ray, power, differential);
         tracer.trace_emitted((updates_ << 40) + texel.first + j, ray, power, differential, block_stats[b],
                              [&](const SurfaceHit& hit, const Vec3& arrival_normal, const Vec3&, const Color& carried,
                                  const RayDifferential& at) {
@@ -119,9 +132,13 @@ void RtPhotonsMethod::update(const FrameContext& frame, const ParamSet& knobs) {
       }
     }
   });
+  trace_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - trace_start).count();
   landed_.clear();
   stats_ = PhotonStats{};
   landed_flux_ = 0.0;
+  size_t total = 0;
+  for (size_t b = 0; b < blocks; ++b) total += landed[b].size();
+  landed_.reserve(total);
   for (size_t b = 0; b < blocks; ++b) {
     for (const rt_photons::LandedPhoton& photon : landed[b]) landed_flux_ += luminance(photon.power);
     landed_.insert(landed_.end(), landed[b].begin(), landed[b].end());
@@ -138,7 +155,9 @@ Image RtPhotonsMethod::render(const GBuffer& gbuffer, const ParamSet& knobs) {
   if (knobs.has("fixed_footprint")) settings.fixed_pixels = static_cast<float>(knobs.real("fixed_footprint"));
   splat_counts_ = rt_photons::SplatCounts{};
   std::vector<float> footprint_pixels;
+  const auto splat_start = std::chrono::steady_clock::now();
   Image image = rt_photons::splat_photons(landed_, *camera_, gbuffer, settings, splat_counts_, &footprint_pixels);
+  splat_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - splat_start).count();
   // The first render after an update steers the next frame's emission (the others, with other render knobs
   // or pixel samples, leave it).
   if (adaptive_ && adapted_update_ != updates_) {
@@ -258,11 +277,21 @@ Counters RtPhotonsMethod::counters() const {
 }
 
 nlohmann::json RtPhotonsMethod::record() const {
+  // Per light: its samples (one for a delta light) and its maps' active texels in all.
   nlohmann::json lights = nlohmann::json::array();
-  for (const rt_photons::EmissionGrid& grid : grids_) {
-    size_t active = 0;
-    for (uint8_t a : grid.active) active += a;
-    lights.push_back({{"faces", grid.faces}, {"resolution", grid.resolution}, {"active_texels", active}, {"texel", grid.texel}});
+  for (size_t l = 0; l < lights_.size(); ++l) {
+    size_t active = 0, samples = 0;
+    nlohmann::json shape = nlohmann::json::object();
+    for (const rt_photons::EmissionGrid& grid : grids_) {
+      if (grid.light != l) continue;
+      for (uint8_t a : grid.active) active += a;
+      samples = static_cast<size_t>(grid.samples);
+      shape = {{"faces", grid.faces}, {"resolution", grid.resolution}, {"texel", grid.texel}};
+    }
+    shape["light"] = lights_[l].light ? lights_[l].light->name : "";
+    shape["samples"] = samples;
+    shape["active_texels"] = active;
+    lights.push_back(shape);
   }
   return {{"emission", lights},
           {"rays", stats_.rays},
@@ -271,6 +300,13 @@ nlohmann::json RtPhotonsMethod::record() const {
           {"hidden_flux", splat_counts_.hidden_flux},
           {"splatted_flux", splat_counts_.splatted_flux},
           {"photons_budgeted", photons_budgeted_},
+          // Rates of the last frame's two passes (wall clock, all threads): the target is photons
+          // traced and splatted per second; a splat's cost goes with its pixels.
+          {"trace_seconds", trace_seconds_},
+          {"splat_seconds", splat_seconds_},
+          {"photons_traced_per_second", trace_seconds_ > 0.0 ? stats_.emitted / trace_seconds_ : 0.0},
+          {"photons_splatted_per_second", splat_seconds_ > 0.0 ? landed_.size() / splat_seconds_ : 0.0},
+          {"pixels_splatted_per_second", splat_seconds_ > 0.0 ? splat_counts_.pixels / splat_seconds_ : 0.0},
           {"adaptive", adaptive_},
           {"adaptations", adaptations_},
           {"last_density_change", last_density_change_},

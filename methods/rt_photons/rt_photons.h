@@ -42,9 +42,11 @@ class RtPhotonsMethod : public CausticMethod {
   std::vector<LightFrame> lights_;  // this frame's (the grids point at them)
   std::vector<rt_photons::EmissionGrid> grids_;
   std::vector<rt_photons::LandedPhoton> landed_;
+  std::vector<std::vector<rt_photons::LandedPhoton>> landed_blocks_;  // update's per-block landings, reused
   PhotonStats stats_;
   size_t active_texels_ = 0;
   double landed_flux_ = 0.0, cut_flux_ = 0.0;
+  double trace_seconds_ = 0.0, splat_seconds_ = 0.0;  // the last update's tracing, the last render's splat
   int max_bounces_ = 8;
   rt_photons::SplatCounts splat_counts_;
 

@@ -30,18 +30,19 @@ struct Kernel {
   double normaliser = 0.0;
 };
 
-// The kernel's weight at G-buffer pixel `pixel` for photon `photon`, or 0 where the point is not on its
-// surface or outside the kernel.
-float weight_at(const LandedPhoton& photon, const Kernel& kernel, const GBuffer& gbuffer, size_t pixel) {
-  if (!gbuffer.receiver[pixel]) return 0.0f;
+// The kernel's r^2 at G-buffer pixel `pixel` for photon `photon` (the point inside the kernel where it is
+// below 1), or -1 where the point is not on the photon's surface (not a receiver, off its plane by more than
+// a pixel's footprint and a half, or turned more than 25 degrees from its normal). Inlined by force: the
+// splat's inner loop, for every pixel of a kernel's bounds in both passes.
+[[gnu::always_inline]] inline float surface_radius2(const LandedPhoton& photon, const Kernel& kernel, const GBuffer& gbuffer,
+                                                    size_t pixel) {
+  if (!gbuffer.receiver[pixel]) return -1.0f;
   const Vec3 offset = gbuffer.position[pixel] - photon.position;
   const float plane = glm::dot(offset, photon.normal);
-  if (std::abs(plane) > 1.5f * gbuffer.footprint[pixel]) return 0.0f;
-  if (glm::dot(gbuffer.normal[pixel], photon.normal) < kNormalCosine) return 0.0f;
+  if (std::abs(plane) > 1.5f * gbuffer.footprint[pixel]) return -1.0f;
+  if (glm::dot(gbuffer.normal[pixel], photon.normal) < kNormalCosine) return -1.0f;
   const float s = glm::dot(offset, kernel.e1), t = glm::dot(offset, kernel.e2);
-  const float r2 = s * s * kernel.inverse_a2 + t * t * kernel.inverse_b2;
-  if (r2 >= 1.0f) return 0.0f;
-  return (1.0f - r2) * (1.0f - r2);
+  return s * s * kernel.inverse_a2 + t * t * kernel.inverse_b2;
 }
 
 // The ellipse of the covariance a_u a_u^T + a_v a_v^T in the tangent plane (its axes e1, e2 and radii),
@@ -77,16 +78,38 @@ float shape_kernel(const LandedPhoton& photon, const SplatSettings& settings, fl
   return unclamped;
 }
 
+// The camera's rays through the pixels' centres and the distance along each to the point its pixel sees
+// (0 for the background): what the occlusion test reads for every pixel a kernel's bounds hold that is
+// not on the photon's surface, computed once per frame.
+struct PixelRays {
+  std::vector<Ray> ray;
+  std::vector<float> distance;
+};
+
+PixelRays pixel_rays(const CameraFrame& camera, const GBuffer& gbuffer) {
+  PixelRays rays;
+  rays.ray.resize(static_cast<size_t>(gbuffer.width) * gbuffer.height);
+  rays.distance.resize(rays.ray.size(), 0.0f);
+  parallel_blocks(static_cast<size_t>(gbuffer.height), 16, [&](size_t begin, size_t end, size_t) {
+    for (size_t y = begin; y < end; ++y)
+      for (int x = 0; x < gbuffer.width; ++x) {
+        const size_t pixel = y * gbuffer.width + x;
+        rays.ray[pixel] = camera.primary_ray(x, static_cast<int>(y));
+        if (gbuffer.object[pixel] >= 0) rays.distance[pixel] = glm::length(gbuffer.position[pixel] - rays.ray[pixel].origin);
+      }
+  });
+  return rays;
+}
+
 // The kernel's weight times area at the point where `ray` (a pixel's camera ray) meets the photon's plane,
-// the area the pixel's footprint there (as core/gbuffer.cpp computes it); 0 where the ray does not meet it.
-// `t_plane` receives the ray's distance to the plane.
-double virtual_share(const LandedPhoton& photon, const Kernel& kernel, const CameraFrame& camera, const Vec3& view_axis,
-                     const Ray& ray, float* t_plane = nullptr) {
+// the area the pixel's footprint there (as core/gbuffer.cpp computes it); 0 where the ray does not meet it
+// or meets it no farther than `nearer_than` (behind the eye by default).
+[[gnu::always_inline]] inline double virtual_share(const LandedPhoton& photon, const Kernel& kernel, const CameraFrame& camera,
+                                                   const Vec3& view_axis, const Ray& ray, float nearer_than = 0.0f) {
   const float facing = glm::dot(ray.direction, photon.normal);
   if (std::abs(facing) < 1e-6f) return 0.0;
   const float t = glm::dot(photon.position - ray.origin, photon.normal) / facing;
-  if (t_plane) *t_plane = t;
-  if (!(t > 0.0f)) return 0.0;
+  if (!(t > nearer_than)) return 0.0;
   const Vec3 offset = ray.origin + t * ray.direction - photon.position;
   const float s = glm::dot(offset, kernel.e1), u = glm::dot(offset, kernel.e2);
   const float r2 = s * s * kernel.inverse_a2 + u * u * kernel.inverse_b2;
@@ -116,6 +139,7 @@ Image splat_photons(const std::vector<LandedPhoton>& photons, const CameraFrame&
   std::vector<Kernel> kernels(photons.size());
   std::vector<float> unclamped(photons.size(), 0.0f);
   const Vec3 view_axis = camera.primary_ray(width / 2, height / 2).direction;  // as core/gbuffer.cpp
+  const PixelRays rays = pixel_rays(camera, gbuffer);
   std::vector<SplatCounts> block_counts((photons.size() + 4095) / 4096);
   // Per photon: the kernel, its bounds and its normaliser.
   parallel_blocks(photons.size(), 4096, [&](size_t begin, size_t end, size_t block) {
@@ -169,15 +193,14 @@ Image splat_photons(const std::vector<LandedPhoton>& photons, const CameraFrame&
       for (int y = kernel.y0; y <= kernel.y1; ++y)
         for (int x = kernel.x0; x <= kernel.x1; ++x) {
           const size_t pixel = static_cast<size_t>(y) * width + x;
-          const float w = weight_at(photon, kernel, gbuffer, pixel);
-          if (w > 0.0f) {
-            in_view += double(w) * gbuffer.footprint[pixel] * gbuffer.footprint[pixel];
+          const float r2 = surface_radius2(photon, kernel, gbuffer, pixel);
+          if (r2 >= 0.0f) {
+            // On the photon's surface: inside the kernel it counts, outside it the plane's point is as far.
+            if (r2 < 1.0f) in_view += double((1.0f - r2) * (1.0f - r2)) * gbuffer.footprint[pixel] * gbuffer.footprint[pixel];
           } else if (gbuffer.object[pixel] >= 0) {
-            float t_plane = 0.0f;
-            const Ray ray = camera.primary_ray(x, y);
-            const double share = virtual_share(photon, kernel, camera, view_axis, ray, &t_plane);
-            const float t_seen = glm::length(gbuffer.position[pixel] - ray.origin);
-            if (share > 0.0 && t_seen < t_plane - 2.0f * gbuffer.footprint[pixel]) unseen += share;
+            // An occluder: the pixel sees a point nearer than the photon's plane along its ray.
+            unseen += virtual_share(photon, kernel, camera, view_axis, rays.ray[pixel],
+                                    rays.distance[pixel] + 2.0f * gbuffer.footprint[pixel]);
           }
         }
       if (in_view > 0.0 && (x0 < 0 || y0 < 0 || x1 >= width || y1 >= height))
@@ -221,8 +244,9 @@ Image splat_photons(const std::vector<LandedPhoton>& photons, const CameraFrame&
         for (int y = y0; y <= y1; ++y)
           for (int x = x0; x <= x1; ++x) {
             const size_t pixel = static_cast<size_t>(y) * width + x;
-            const float w = weight_at(photon, kernel, gbuffer, pixel);
-            if (w <= 0.0f) continue;
+            const float r2 = surface_radius2(photon, kernel, gbuffer, pixel);
+            if (!(r2 >= 0.0f && r2 < 1.0f)) continue;
+            const float w = (1.0f - r2) * (1.0f - r2);
             const float scale = static_cast<float>(double(w) / kernel.normaliser);
             Color value = result.rgb(pixel) + photon.power * scale;
             result.set_rgb(pixel, value);
