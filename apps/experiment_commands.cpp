@@ -63,6 +63,9 @@ int run_report(const std::string& folder, bool recompute_metrics) {
   ReportSummary report = write_report(folder);
   fmt::print("report: {} ({} runs, {} failed)\n", report.html, report.runs, report.failed);
   fmt::print("also: {}, {}, {}\n", report.markdown, report.csv, report.json);
+  if (!report.viewer.empty())
+    fmt::print("viewer: {} (full-resolution images, {:.1f} MB of pixels under report/view/)\n", report.viewer,
+               report.viewer_bytes / 1e6);
   return 0;
 }
 

@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
 
   std::string report_folder;
   CLI::App* report_command = app.add_subcommand(
-      "report", "Write report.html, report.md, results.csv and results.json for RESULTS/<experiment>/ from the stored runs.");
+      "report", "Write report.html, viewer.html, report.md, results.csv and results.json for RESULTS/<experiment>/ from the stored runs.");
   report_command->add_option("folder", report_folder, "an experiment's results folder")->required();
   bool recompute_metrics = false;
   report_command->add_flag("--recompute-metrics", recompute_metrics,

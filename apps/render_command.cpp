@@ -117,9 +117,7 @@ static void render_and_write(const RenderOptions& options, const Scene& scene, c
   std::string out = options.out;
   write_exr(result.caustic, (fs::path(out) / "caustic.exr").string());
   write_exr(direct, (fs::path(out) / "direct.exr").string());
-  write_exr(result.gbuffer.to_image(), (fs::path(out) / "gbuffer.exr").string(),
-            {"position.X", "position.Y", "position.Z", "normal.X", "normal.Y", "normal.Z", "albedo.R", "albedo.G",
-             "albedo.B", "object", "receiver", "footprint"});
+  write_exr(result.gbuffer.to_image(), (fs::path(out) / "gbuffer.exr").string(), GBuffer::channel_names());
   Image composite = composite_radiance(result.gbuffer, direct, result.caustic);
   // Expose so that the mean radiance of the receivers maps to a mid grey.
   double mean = masked_mean(composite, result.gbuffer.receiver);

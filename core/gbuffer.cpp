@@ -1,5 +1,10 @@
 #include "core/gbuffer.h"
 
+#include <algorithm>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
 #include "core/parallel.h"
 
 namespace causticbench {
@@ -14,6 +19,32 @@ void GBuffer::clear_outside_receivers(Image& image) const {
   for (size_t pixel = 0; pixel < pixel_count(); ++pixel) {
     if (!receiver[pixel]) image.set_rgb(pixel, Color(0.0f));
   }
+}
+
+const std::vector<std::string>& GBuffer::channel_names() {
+  static const std::vector<std::string> names = {"position.X", "position.Y", "position.Z", "normal.X",
+                                                 "normal.Y",   "normal.Z",   "albedo.R",   "albedo.G",
+                                                 "albedo.B",   "object",     "receiver",   "footprint"};
+  return names;
+}
+
+Image GBuffer::read_image(const std::string& path) {
+  std::vector<std::string> names;
+  const Image stored = read_exr(path, &names);
+  const std::vector<std::string>& wanted = channel_names();
+  // Unnamed files: OpenImageIO's defaults for channel i.
+  const std::vector<std::string> unnamed = {"R", "G", "B", "A"};
+  Image image(stored.width(), stored.height(), static_cast<int>(wanted.size()));
+  for (size_t c = 0; c < wanted.size(); ++c) {
+    const std::string fallback = c < unnamed.size() ? unnamed[c] : "channel" + std::to_string(c);
+    auto found = std::find(names.begin(), names.end(), wanted[c]);
+    if (found == names.end()) found = std::find(names.begin(), names.end(), fallback);
+    if (found == names.end())
+      throw std::runtime_error(fmt::format("{}: a G-buffer without channel {} (nor {})", path, wanted[c], fallback));
+    const int from = static_cast<int>(found - names.begin());
+    for (size_t pixel = 0; pixel < image.pixel_count(); ++pixel) image.at(pixel, static_cast<int>(c)) = stored.at(pixel, from);
+  }
+  return image;
 }
 
 Image GBuffer::to_image() const {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/image.h"
@@ -27,6 +28,15 @@ struct GBuffer {
   // position/normal/albedo/object/mask/footprint as a multi-channel EXR-ready image (12 channels).
   Image to_image() const;
   static constexpr int kReceiverChannel = 10;  // the receiver mask's channel in to_image()
+  // The names of to_image()'s channels, in its order, as render's gbuffer.exr and the reference cache's
+  // gbuffer_NNNN.exr carry them (position.X/Y/Z, normal.X/Y/Z, albedo.R/G/B, object, receiver, footprint),
+  // so that tev and `oiiotool --info` say what each is.
+  static const std::vector<std::string>& channel_names();
+  // A stored G-buffer, its channels put back in to_image()'s order by name: EXR sorts channels by name
+  // and OpenImageIO reads R, G, B, A first, so a file's order is not to_image()'s. Files written before
+  // the channels had names (R, G, B, A, channel4 ... channel11) map those names to their index.
+  // std::runtime_error naming `path` when it is unreadable or lacks a channel.
+  static Image read_image(const std::string& path);
 };
 
 // One primary ray per pixel through point (offset_x, offset_y) of the pixel (in [0, 1), from its top-left

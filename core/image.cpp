@@ -47,7 +47,7 @@ std::string encode_exr(const Image& image, const std::vector<std::string>& chann
   return encode_with_oiio("image.exr", spec, OIIO::TypeDesc::FLOAT, image.data());
 }
 
-Image decode_exr(const std::string& bytes, const std::string& path) {
+Image decode_exr(const std::string& bytes, const std::string& path, std::vector<std::string>* channel_names) {
   OIIO::Filesystem::IOMemReader input_proxy(bytes.data(), bytes.size());
   auto input = OIIO::ImageInput::open("image.exr", nullptr, &input_proxy);
   if (!input) throw std::runtime_error(fmt::format("{}: not a readable EXR image: {}", path, OIIO::geterror()));
@@ -56,6 +56,7 @@ Image decode_exr(const std::string& bytes, const std::string& path) {
   if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data())) {
     throw std::runtime_error(fmt::format("{}: cannot read the EXR image: {}", path, input->geterror()));
   }
+  if (channel_names) *channel_names = spec.channelnames;
   return image;
 }
 
@@ -63,12 +64,12 @@ void write_exr(const Image& image, const std::string& path, const std::vector<st
   write_file_atomically(path, encode_exr(image, channel_names));
 }
 
-Image read_exr(const std::string& path) {
+Image read_exr(const std::string& path, std::vector<std::string>* channel_names) {
   std::ifstream stream(path, std::ios::binary);
   if (!stream) throw std::runtime_error(fmt::format("{}: cannot open image: {}", path, os_error_text(errno)));
   std::stringstream bytes;
   bytes << stream.rdbuf();
-  return decode_exr(bytes.str(), path);
+  return decode_exr(bytes.str(), path, channel_names);
 }
 
 void write_png(const Image& image, const std::string& path, float exposure) {

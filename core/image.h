@@ -47,10 +47,12 @@ class Image {
 // bytes (encode_exr is what write_exr writes, and what the results store checksums).
 std::string encode_exr(const Image& image, const std::vector<std::string>& channel_names = {});
 // std::runtime_error naming `path` when `bytes` is not a readable EXR image (truncated, damaged).
-Image decode_exr(const std::string& bytes, const std::string& path);
+// With `channel_names`, it receives the file's channel names in the order of the image's channels (as
+// OpenImageIO reads them: R, G, B, A first, then the others in the file's order, which is alphabetical).
+Image decode_exr(const std::string& bytes, const std::string& path, std::vector<std::string>* channel_names = nullptr);
 // Written atomically (core/files.h): WriteError naming the file and the OS error, nothing half written.
 void write_exr(const Image& image, const std::string& path, const std::vector<std::string>& channel_names = {});
-Image read_exr(const std::string& path);
+Image read_exr(const std::string& path, std::vector<std::string>* channel_names = nullptr);
 // 8-bit sRGB PNG of a linear image after tone mapping: exposure scaling then clamping. Written
 // atomically, as write_exr.
 void write_png(const Image& image, const std::string& path, float exposure = 1.0f);

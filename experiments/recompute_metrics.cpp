@@ -54,7 +54,7 @@ void rescore(RunRecord& record, const fs::path& run_folder, const fs::path& refe
     references.push_back(
         checked_image(reference_folder / reference_file, checksum_of(record.reference_images, reference_file)));
     // The receiver mask from the stored G-buffer (GBuffer::to_image), which the reference's record checks.
-    Image gbuffer = read_exr((reference_folder / (ResultPaths::frame_file(frame.frame, "gbuffer") + ".exr")).string());
+    Image gbuffer = GBuffer::read_image((reference_folder / (ResultPaths::frame_file(frame.frame, "gbuffer") + ".exr")).string());
     if (gbuffer.channels() <= GBuffer::kReceiverChannel || gbuffer.width() != tests.back().width() ||
         gbuffer.height() != tests.back().height())
       throw InputError(fmt::format("the G-buffer of frame {} in {} does not fit the run's image", frame.frame,

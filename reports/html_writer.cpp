@@ -51,7 +51,9 @@ void html_table(std::string& out, const Table& table) {
         out += fmt::format("<sup>{}</sup></td>", note_number(notes, cell.undefined));
         continue;
       }
-      out += ">" + html_escape(cell.text) + "</td>";
+      out += ">" + (cell.link.empty() ? html_escape(cell.text)
+                                      : "<a href=\"" + html_escape(cell.link) + "\">" + html_escape(cell.text) + "</a>") +
+             "</td>";
     }
     out += "</tr>\n";
   }
@@ -205,6 +207,12 @@ std::string html_document(const Report& report) {
         report.has_flip_maps ? " Right: the HDR-FLIP error map over the receivers (0 to 1; its mean is the flip "
                                "column), shrunk."
                              : "");
+    if (!report.viewer.empty()) {
+      out += "<p class=\"caption\"><a href=\"viewer.html\">Look closer in the viewer</a>: every run at full "
+             "resolution in half floats beside its reference, another run and its error (absolute, relative, FLIP), "
+             "with exposure, tone curve, zoom to single pixels and a readout of E<sub>c</sub> in W/m\u00b2; a "
+             "run's title opens it there.</p>\n";
+    }
     if (!report.error_scale_text.empty()) {
       out += "<div class=\"bar\">error 0 <img src=\"report/error_colour_bar.png\" alt=\"inferno colour scale\"> " +
              html_escape(report.error_scale_text) + " or more</div>\n";
@@ -217,7 +225,10 @@ std::string html_document(const Report& report) {
       // Three pictures (E_c, |delta|, FLIP) need a wider card than two.
       out += std::string("<div class=\"card") + (thumb.reference ? " reference" : "") +
              (thumb.flip_png.empty() ? "" : " triple") + "\"><div class=\"title\">" +
-             html_escape(thumb.title) + "</div><div class=\"pair\">";
+             (thumb.reference || thumb.viewer_id.empty()
+                  ? html_escape(thumb.title)
+                  : "<a href=\"viewer.html#run=" + html_escape(thumb.viewer_id) + "\">" + html_escape(thumb.title) + "</a>") +
+             "</div><div class=\"pair\">";
       if (!thumb.ec_png.empty())
         out += "<div><img src=\"report/" + thumb.ec_png + "\" alt=\"E_c " + html_escape(thumb.title) +
                "\"><div class=\"label\">E<sub>c</sub></div></div>";

@@ -78,6 +78,14 @@ ReportSummary write_report(const std::string& experiment_folder) {
   write_text_atomically(summary.json, results_json(report));
   write_text_atomically(summary.markdown, markdown_document(report));
   write_text_atomically(summary.html, html_document(report));
+  const fs::path viewer = report.folder / "viewer.html";
+  if (!report.viewer.empty()) {
+    write_text_atomically(viewer.string(), viewer_document(report));
+    summary.viewer = viewer.string();
+    summary.viewer_bytes = report.viewer_bytes;
+  } else if (fs::exists(viewer)) {
+    fs::remove(viewer);
+  }
   return summary;
 }
 

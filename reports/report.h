@@ -15,6 +15,8 @@ namespace causticbench {
 struct ReportSummary {
   // Paths of the files written into the experiment folder.
   std::string html, markdown, csv, json;
+  std::string viewer;       // viewer.html, "" when no run has an image
+  size_t viewer_bytes = 0;  // the viewer's pixel files under report/view/
   size_t runs = 0;     // runs with a record.json (ok and failed)
   size_t failed = 0;   // of those, runs whose status is not "ok"
   size_t missing = 0;  // runs named in experiment.json without a record.json (not run yet)
@@ -24,8 +26,8 @@ struct ReportSummary {
 
 // Reads experiment.json, environment.json, runs/*/record.json, runs/*/frame_*.exr and the reference
 // (../references/<reference_key>/record.json and frame_*.exr), then writes report.html, report.md,
-// results.csv, results.json and the report/ folder (thumbnails, error maps, vendored Vega bundles)
-// into the experiment folder. Throws InputError when the folder is not an experiment results folder,
+// results.csv, results.json, viewer.html and the report/ folder (thumbnails, error maps, vendored Vega
+// bundles, the viewer's pixels under report/view/) into the experiment folder. Throws InputError when the folder is not an experiment results folder,
 // std::runtime_error when the vendored Vega bundles are missing from the source tree.
 ReportSummary write_report(const std::string& experiment_folder);
 

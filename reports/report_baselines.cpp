@@ -30,7 +30,7 @@ bool read_reference_frames(const fs::path& folder, std::vector<Image>& images, s
   try {
     for (const auto& [frame, path] : frames) {
       images.push_back(read_exr(path.string()));
-      const Image gbuffer = read_exr((folder / (ResultPaths::frame_file(frame, "gbuffer") + ".exr")).string());
+      const Image gbuffer = GBuffer::read_image((folder / (ResultPaths::frame_file(frame, "gbuffer") + ".exr")).string());
       if (gbuffer.channels() <= GBuffer::kReceiverChannel || gbuffer.width() != images.back().width() ||
           gbuffer.height() != images.back().height())
         return false;

@@ -20,6 +20,7 @@
 #include "core/image_statistics.h"
 #include "metrics/flip.h"
 #include "reports/report_parts.h"
+#include "reports/viewer_data.h"
 
 namespace causticbench::report_detail {
 
@@ -78,7 +79,7 @@ std::vector<uint8_t> lit_mask(const Image& reference) {
 std::vector<uint8_t> receiver_mask(const fs::path& reference_folder, int64_t frame, const Image& reference) {
   fs::path gbuffer_path = reference_folder / frame_file(frame, "gbuffer");
   if (fs::is_regular_file(gbuffer_path)) {
-    Image gbuffer = read_exr(gbuffer_path.string());
+    Image gbuffer = GBuffer::read_image(gbuffer_path.string());
     if (gbuffer.channels() > GBuffer::kReceiverChannel && gbuffer.pixel_count() == reference.pixel_count()) {
       std::vector<uint8_t> mask(gbuffer.pixel_count(), 0);
       for (size_t pixel = 0; pixel < gbuffer.pixel_count(); ++pixel) {
@@ -157,10 +158,29 @@ struct ReferenceFrame {
   std::string error;
 };
 
+std::string viewer_reference_id(const std::string& reference_key, int64_t frame) {
+  return "reference/" + reference_key + "/" + std::to_string(frame);
+}
+
+// A reference frame in the viewer, once: its pixels, its receivers' mean (the runs' exposure and error
+// scale come from it) and its own estimated error, when stored, is not shown (the report's thumbnail does).
+void add_reference_to_viewer(ViewerData& viewer, const ReferenceFrame& reference, const std::string& reference_key,
+                             int64_t frame, const std::string& title) {
+  const std::string id = viewer_reference_id(reference_key, frame);
+  if (viewer.index()["references"].contains(id)) return;
+  json entry = {{"id", id}, {"title", title}, {"frame", frame}, {"width", reference.image.width()},
+                {"height", reference.image.height()}, {"mean", reference.mean}};
+  entry["exposure_stops"] = reference.mean > 0.0 ? std::log2(kMiddleGrey / reference.mean) : 0.0;
+  entry["pixels"] = viewer.add_pixels(id, "reference_" + file_safe(reference_key) + "_f" + std::to_string(frame),
+                                      reference.image, 3);
+  viewer.index()["references"][id] = entry;
+}
+
 }  // namespace
 
 void make_images(Report& report, std::set<std::string>& written) {
   fs::path images = report.folder / "report";
+  ViewerData viewer(images / "view");
   // The FLIP map only where the experiment measures FLIP: its mean is then the flip column.
   const json& metrics = member(report.experiment, "metrics");
   const bool with_flip = metrics.is_array() && std::find(metrics.begin(), metrics.end(), json("flip")) != metrics.end();
@@ -221,6 +241,8 @@ void make_images(Report& report, std::set<std::string>& written) {
     float exposure = reference.mean > 0.0 ? static_cast<float>(kMiddleGrey / reference.mean) : 1.0f;
     write_thumbnail(reference.image, images / thumb.ec_png, exposure);
     written.insert(thumb.ec_png);
+    add_reference_to_viewer(viewer, reference, variant.reference_key, first_frame, thumb.title);
+    thumb.viewer_id = viewer_reference_id(variant.reference_key, first_frame);
     if (!(reference.mean > 0.0)) thumb.note = "black over the receivers: no error maps against it";
     report.thumbnails.push_back(thumb);
     if (!(reference.mean > 0.0)) continue;  // error maps need the reference's mean as their scale
@@ -278,23 +300,32 @@ void make_images(Report& report, std::set<std::string>& written) {
         thumb.ec_png = stem + ".png";
         write_thumbnail(image, images / thumb.ec_png, exposure);
         written.insert(thumb.ec_png);
+        json entry = {{"id", run.key}, {"title", thumb.title}, {"caption", thumb.caption}, {"method", run.method},
+                      {"variant", run.variant}, {"frame", frame}, {"width", image.width()}, {"height", image.height()},
+                      {"exposure_stops", std::log2(static_cast<double>(exposure))}};
+        entry["pixels"] = viewer.add_pixels(run.key, stem + "_f" + std::to_string(frame), image, 3);
         if (reference.ok && reference.mean > 0.0) {
           if (reference.image.width() == image.width() && reference.image.height() == image.height()) {
             thumb.error_png = stem + "_error.png";
             write_error_map(image, reference.image, kErrorScale * reference.mean, images / thumb.error_png);
             written.insert(thumb.error_png);
+            add_reference_to_viewer(viewer, reference, run.reference_key, frame, "reference");
+            entry["reference"] = viewer_reference_id(run.reference_key, frame);
             Image flip = with_flip ? flip_error_map(image, reference.image, reference.mask) : Image();
             if (flip.pixel_count() > 0) {
               thumb.flip_png = stem + "_flip.png";
               write_flip_map(flip, images / thumb.flip_png);
               written.insert(thumb.flip_png);
               report.has_flip_maps = true;
+              entry["flip"] = viewer.add_pixels(run.key + "/flip", stem + "_f" + std::to_string(frame) + "_flip", flip, 1);
             }
           } else {
             thumb.note = fmt::format("{}x{} but the reference is {}x{}: no error map", image.width(), image.height(),
                                      reference.image.width(), reference.image.height());
           }
         }
+        viewer.index()["runs"].push_back(entry);
+        thumb.viewer_id = run.key;
       } catch (const std::exception& failure) {
         thumb.note = fmt::format("image {} unreadable: {}", path.string(), failure.what());
       }
@@ -308,6 +339,13 @@ void make_images(Report& report, std::set<std::string>& written) {
   if (report.has_flip_maps) {
     write_colour_bar(images / "flip_colour_bar.png", cv::COLORMAP_MAGMA);
     written.insert("flip_colour_bar.png");
+  }
+  report.viewer_bytes = viewer.finish();
+  if (!viewer.index()["runs"].empty()) {
+    report.viewer = viewer.index();
+    report.viewer["error_scale_factor"] = kErrorScale;
+    report.viewer["colour_maps"] = {{"inferno", colour_map_table(cv::COLORMAP_INFERNO)},
+                                    {"magma", colour_map_table(cv::COLORMAP_MAGMA)}};
   }
 }
 

@@ -134,6 +134,7 @@ struct VariantViews {
 
 struct Thumbnail {
   std::string title, caption, ec_png, error_png, flip_png, note;
+  std::string viewer_id;  // the run's (or reference's) entry in the viewer, "" when it has none
   bool reference = false;
 };
 
@@ -209,6 +210,9 @@ struct Report {
   std::vector<Thumbnail> thumbnails;
   std::string error_scale_text;  // what the brightest colour of the error maps means
   bool has_flip_maps = false;    // some run has an HDR-FLIP map (the experiment measures flip)
+  // The viewer's index (reports/viewer_data.h): its runs and references; empty when no run has an image.
+  json viewer = json::object();
+  size_t viewer_bytes = 0;  // the bytes of its pixel files (report/view/)
   std::vector<Plot> plots;
   std::vector<ClaimResult> claims;
 

@@ -58,6 +58,7 @@ struct Cell {
   bool numeric = false;
   bool warn = false;
   std::string undefined = {};  // why the cell has no value: shown as a footnote (and, in HTML, on hover)
+  std::string link = {};       // HTML: the text links here (a relative URL)
 };
 
 struct Table {
@@ -148,6 +149,7 @@ std::vector<std::string> findings(const Report& report, bool html);
 
 std::string markdown_document(const Report& report);  // markdown_writer.cpp: report.md
 std::string html_document(const Report& report);      // html_writer.cpp: report.html
+std::string viewer_document(const Report& report);    // viewer_page.cpp: viewer.html (when report.viewer has runs)
 std::string results_csv(const Report& report);        // csv_writer.cpp: results.csv
 std::string results_json(const Report& report);       // json_writer.cpp: results.json
 

@@ -120,6 +120,7 @@ SummaryFiles write_summary(const std::vector<std::string>& experiment_folders, c
   }
   const fs::path out(out_folder);
   ensure_folder(out.string());
+  summary.out_folder = out;
   files.json = (out / "summary.json").string();
   files.markdown = (out / "summary.md").string();
   files.html = (out / "summary.html").string();

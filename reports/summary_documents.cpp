@@ -57,6 +57,13 @@ Table budgets_table(const StudySummary& summary) {
                           {method, winner.point.has_value() && winner.beats_black, false,
                            !winner.point || !winner.beats_black},
                           {winner_text(summary, winner)}});
+    // The best run opens in its experiment's viewer, where the report wrote one.
+    const fs::path viewer = report.folder / "viewer.html";
+    if (winner.point && fs::exists(viewer) && !summary.out_folder.empty()) {
+      const std::string key = report.runs[summary.views(scene).runs[*winner.point]].key;
+      table.rows.back().back().link =
+          fs::relative(viewer, summary.out_folder).generic_string() + "#run=" + key;
+    }
   }
   return table;
 }

@@ -68,6 +68,7 @@ struct StudySummary {
   std::vector<BudgetWinner> winners;  // scene by scene, budgets in each experiment's order
   std::vector<std::string> methods;   // in order of first appearance across the experiments
   std::vector<MethodStanding> standings;  // one per method, same order
+  fs::path out_folder;  // where the summary is written: its links into the experiments' viewers are relative
 
   const Report& report(const SummaryScene& scene) const { return experiments[scene.experiment]; }
   const VariantViews& views(const SummaryScene& scene) const { return report(scene).views[scene.variant]; }

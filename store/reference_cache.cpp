@@ -145,7 +145,7 @@ void compute_frame(const ReferenceRequest& request, const fs::path& folder, int 
   Image caustic =
       std::move(play_sequence(*method, {&posed}, knobs.frame, {knobs.render}, TimingProtocol{false, 1}).front().images.front());
   const FrameFiles files = frame_files(folder, frame);
-  const std::string image_bytes = encode_exr(caustic), gbuffer_bytes = encode_exr(posed.gbuffer.to_image());
+  const std::string image_bytes = encode_exr(caustic), gbuffer_bytes = encode_exr(posed.gbuffer.to_image(), GBuffer::channel_names());
   // The estimated RMS error of every pixel (W/m^2), beside the image it qualifies.
   const auto* reference = dynamic_cast<const ReferenceMethod*>(method.get());
   if (!reference) throw std::logic_error("the method named reference is not ReferenceMethod");

@@ -196,3 +196,46 @@ TEST(Reference, ATimeCappedReferenceIsMarkedAndItsRunsSaySo) {
   EXPECT_NE(markdown.find("1 run(s) were measured against a reference that stopped on its time cap"), std::string::npos)
       << markdown;
 }
+
+// The reference's G-buffer names its channels (GBuffer::channel_names), so that tev or `oiiotool --info`
+// say which is which; GBuffer::read_image puts a stored file's channels back in to_image()'s order by
+// name, for these files and for those written before, whose unnamed channels (R, G, B, A, channel4 ...)
+// OpenImageIO reads in another order: read by index, channel 10 of an old file was albedo.B, so a
+// receiver darker than albedo 0.5 fell out of the receiver mask.
+TEST(Reference, ItsGBufferNamesItsChannelsAndOldFilesReadTheSame) {
+  StoreFolder folder("gbuffer_names", kOneRun);
+  const Experiment experiment = folder.experiment();
+  Finished run = run_process({"run", folder.experiment_file, "--results", folder.results, "--no-report"}, folder.path("out.txt"));
+  ASSERT_EQ(run.code, 0) << run.output;
+  const fs::path stored = fs::path(ResultPaths{folder.results}.reference(experiment.variants[0].reference_key)) / "gbuffer_0000.exr";
+  std::vector<std::string> names;
+  const Image raw = read_exr(stored.string(), &names);
+  std::vector<std::string> sorted_names = names, expected = GBuffer::channel_names();
+  std::sort(sorted_names.begin(), sorted_names.end());
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(sorted_names, expected);
+
+  // A G-buffer with a dark receiver (albedo 0.3), written with names and in the old unnamed way.
+  GBuffer gbuffer;
+  gbuffer.width = 4, gbuffer.height = 2;
+  for (size_t i = 0; i < gbuffer.pixel_count(); ++i) {
+    gbuffer.position.push_back(Vec3(float(i), 2.0f * i, 3.0f * i));
+    gbuffer.normal.push_back(Vec3(0.0f, 1.0f, 0.0f));
+    gbuffer.albedo.push_back(Color(i < 4 ? 0.3f : 0.0f));
+    gbuffer.object.push_back(i < 4 ? 0 : 1);
+    gbuffer.receiver.push_back(i < 4 ? 1 : 0);
+    gbuffer.footprint.push_back(0.01f * (i + 1));
+  }
+  const Image written = gbuffer.to_image();
+  write_exr(written, folder.path("named.exr"), GBuffer::channel_names());
+  write_exr(written, folder.path("unnamed.exr"));
+  for (const char* file : {"named.exr", "unnamed.exr"}) {
+    const Image read = GBuffer::read_image(folder.path(file));
+    EXPECT_TRUE(read.values() == written.values()) << file;
+    for (size_t i = 0; i < gbuffer.pixel_count(); ++i)
+      EXPECT_EQ(read.at(i, GBuffer::kReceiverChannel) > 0.5f, gbuffer.receiver[i] == 1) << file << " pixel " << i;
+  }
+  // Read by index, the old file's channel 10 is not the receiver mask.
+  const Image by_index = read_exr(folder.path("unnamed.exr"));
+  EXPECT_NE(by_index.at(0, GBuffer::kReceiverChannel) > 0.5f, true);
+}

@@ -14,6 +14,7 @@
 
 #include "core/errors.h"
 #include "store/run_record.h"
+#include "reports/report.h"
 #include "reports/summary.h"
 #include "tests/report_test_support.h"
 
@@ -184,6 +185,15 @@ TEST_F(SummarizeTest, BestMethodPerBudgetInEveryScene) {
   EXPECT_EQ(html.find("<script"), std::string::npos);  // one offline page
   ASSERT_EQ(files.headlines.size(), 2u);
   EXPECT_EQ(files.headlines[0], "study_mirror (relmse): 1 ms none, 10 ms csl, 50 ms pinhole, 1 s csl");
+}
+
+// A best run links into its experiment's viewer (docs/reports.md, "The viewer") where the experiment's
+// report wrote one: here study_mirror's, not study_glass's.
+TEST_F(SummarizeTest, BestRunsLinkIntoTheirExperimentsViewer) {
+  ASSERT_FALSE(write_report((results / "study_mirror").string()).viewer.empty());
+  const std::string html = read_text(write_summary(both(), (root / "out").string()).html);
+  EXPECT_NE(html.find("<a href=\"../results/study_mirror/viewer.html#run="), std::string::npos);
+  EXPECT_EQ(html.find("study_glass/viewer.html"), std::string::npos);
 }
 
 TEST_F(SummarizeTest, WhereEachMethodWinsAndFails) {
