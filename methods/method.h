@@ -73,6 +73,11 @@ struct MethodInfo {
   // The conformance tests check that a method reports exactly what it declares.
   std::vector<QuantityInfo> counters;
   std::vector<KnobRule> knob_rules;
+  // The knob that buys accuracy with time (photons, samples, passes), or "" where the accuracy is set by
+  // a precomputation's resolution instead: the report draws the error of the runs that sweep it against
+  // their time to a first frame, joined by the reference's own convergence (docs/reports.md, "Error
+  // against time").
+  std::string budget_knob;
 };
 
 // The first of `info`'s knob rules that `params` (resolved) break, with its problem; nothing when none.

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "core/errors.h"
+#include "methods/registry.h"
 #include "reports/plot_specs.h"
 #include "reports/report_parts.h"
 
@@ -85,6 +86,92 @@ void make_convergence_plot(Report& report) {
       "experiment.";
   if (report.multi()) caption += " One line per scene variant's reference; the rule is the best over all variants.";
   report.plots.push_back({"plot-convergence", caption, spec});
+}
+
+// Error against time (docs/reports.md, "Error against time"): the runs of every method that sweep its
+// budget knob (MethodInfo::budget_knob: photons, samples, passes), their relMSE against their time to a
+// first frame (precomputation plus the median frame), on log axes, one line per method and setting of
+// its other knobs; the reference's own convergence (its estimated relMSE after each pass against its
+// seconds) joins them, as renderer papers draw it. Only with relMSE: the reference estimates no other.
+void make_error_time_plot(Report& report) {
+  const std::string metric = "relmse";
+  const json& measured = member(report.experiment, "metrics");
+  if (!measured.is_array() || std::find(measured.begin(), measured.end(), json(metric)) == measured.end()) return;
+  json rows = json::array();
+  std::vector<double> xs, ys;
+  std::map<std::string, size_t> points_per_series;
+  for (size_t i : report.ok_runs()) {
+    const Run& run = report.runs[i];
+    std::string knob;
+    try {
+      knob = find_method(run.method).info().budget_knob;
+    } catch (const std::exception&) {
+      continue;  // a method this build does not register
+    }
+    if (knob.empty() || !run.swept().is_object() || !run.swept().contains(knob)) continue;
+    const auto error = run.metric(metric);
+    const auto frame_ms = run.frame_ms();
+    if (!finite(error) || !finite(frame_ms)) continue;
+    const double seconds = run.record.prepare.prepare_seconds + *frame_ms / 1000.0;
+    json others = run.swept();
+    others.erase(knob);
+    std::string others_text = knobs_text(others);
+    json row = run_row(report, i);
+    row["seconds"] = seconds;
+    row["error"] = *error;
+    row["budget"] = knob + "=" + value_text(run.swept()[knob]);
+    row["series"] = (report.multi() ? run.variant + " " : std::string()) + run.method +
+                    (others_text.empty() ? "" : " " + others_text);
+    ++points_per_series[row["series"].get<std::string>()];
+    rows.push_back(row);
+    xs.push_back(seconds);
+    ys.push_back(*error);
+  }
+  size_t lines = 0;
+  for (const auto& [series, count] : points_per_series) lines += count >= 2;
+  if (lines == 0) return;
+  json reference_rows = json::array();
+  for (const Variant& variant : report.variants)
+    for (const json& entry : variant.history) {
+      auto s = number(entry, "seconds"), f = number(entry, "error_estimate");
+      if (!finite(s) || !finite(f)) continue;
+      reference_rows.push_back({{"seconds", *s}, {"error", *f}, {"series", (report.multi() ? variant.name + " " : std::string()) + "reference"}});
+      xs.push_back(*s);
+      ys.push_back(*f);
+    }
+  const bool log_x = all_positive(xs), log_y = all_positive(ys);
+  json x = axis("seconds", std::string("time to a first frame, s") + (log_x ? " (log)" : ""), log_x);
+  json y = axis("error", std::string("relMSE") + (log_y ? " (log)" : ""), log_y);
+  json tip = tooltip(report);
+  tip.push_back({{"field", "budget"}});
+  tip.push_back({{"field", "seconds"}, {"title", "time to a first frame, s"}, {"format", ".4g"}});
+  json layers = json::array();
+  layers.push_back({{"data", {{"values", rows}}},
+                    {"mark", {{"type", "line"}, {"point", {{"filled", true}, {"size", 40}}}}},
+                    {"encoding",
+                     {{"x", x},
+                      {"y", y},
+                      {"color", method_colour(report)},
+                      {"detail", {{"field", "series"}}},
+                      {"order", {{"field", "seconds"}}},
+                      {"tooltip", tip}}}});
+  if (!reference_rows.empty()) {
+    json reference_tip = json::array({{{"field", "series"}, {"title", "curve"}},
+                                      {{"field", "seconds"}, {"format", ".4g"}},
+                                      {{"field", "error"}, {"title", "estimated relMSE"}, {"format", ".4g"}}});
+    layers.push_back({{"data", {{"values", reference_rows}}},
+                      {"mark", {{"type", "line"}, {"strokeDash", {4, 3}}, {"color", "#333"}, {"point", {{"color", "#333"}}}}},
+                      {"encoding", {{"x", x}, {"y", y}, {"detail", {{"field", "series"}}}, {"tooltip", reference_tip}}}});
+  }
+  json spec = base_spec("relMSE against time", "the runs that sweep their method's budget knob, and the reference's own");
+  spec["layer"] = layers;
+  report.plots.push_back(
+      {"plot-error-time",
+       "Each method that buys accuracy with time (photons, samples, passes: the budget knob its declaration names) "
+       "along its sweep of that knob: relMSE against its time to a first frame (precomputation plus the median "
+       "frame), one line per method and setting of its other knobs. The dashed curve is the reference's estimate "
+       "of its own relMSE after each pass against its seconds: below it, a run's error is not resolved.",
+       spec});
 }
 
 void make_sweep_plots(Report& report) {
@@ -199,6 +286,7 @@ void make_sweep_plots(Report& report) {
 void make_plots(Report& report) {
   make_tradeoff_plots(report);
   make_convergence_plot(report);
+  make_error_time_plot(report);
   make_sweep_plots(report);
 }
 

@@ -25,7 +25,7 @@ TEST_F(ReportTest, WritesEveryFile) {
   EXPECT_EQ(summary.runs, 7u);
   EXPECT_EQ(summary.failed, 1u);
   EXPECT_EQ(summary.missing, 1u);
-  EXPECT_EQ(summary.plots, 6u);  // trade-off, total cost, convergence, sweeps of photons, k and samples
+  EXPECT_EQ(summary.plots, 7u);  // trade-off, total cost, convergence, error against time, sweeps of photons, k, samples
   for (const std::string& path : {summary.html, summary.markdown, summary.csv, summary.json})
     EXPECT_TRUE(fs::is_regular_file(path)) << path;
   for (const char* file :
@@ -93,6 +93,37 @@ TEST_F(ReportTest, SweepPlotsAreNumericAndSplitByEveryDifferingKnob) {
   ASSERT_EQ(series.size(), 2u);
   EXPECT_EQ(series[100], "pinhole filtering=none");
   EXPECT_EQ(series[400], "pinhole filtering=anisotropic");
+}
+
+// Error against time: the runs that sweep their method's budget knob (photon_map's photons, pinhole's
+// samples; MethodInfo::budget_knob), relMSE against precomputation plus the median frame, log axes, one
+// line per method and setting of its other knobs, and the reference's own convergence dashed beside them.
+TEST_F(ReportTest, ErrorAgainstTimeJoinsTheReferencesConvergence) {
+  ReportSummary summary = write_report(folder.string());
+  json spec = plot_spec(read_text(summary.html), "plot-error-time");
+  ASSERT_TRUE(spec.is_object());
+  const json& runs = spec["layer"][0];
+  EXPECT_EQ(runs["encoding"]["x"]["scale"]["type"], "log");
+  EXPECT_EQ(runs["encoding"]["y"]["scale"]["type"], "log");
+  std::map<std::string, size_t> series;
+  for (const json& row : runs["data"]["values"]) {
+    ++series[row["series"].get<std::string>()];
+    // prepare_seconds 0.5 in every fake record, plus the median frame.
+    EXPECT_NEAR(row["seconds"].get<double>(), 0.5 + row["frame_ms"].get<double>() / 1000.0, 1e-12) << row.dump();
+  }
+  const std::map<std::string, size_t> expected = {{"photon_map k=50", 3}, {"photon_map k=10", 1}, {"pinhole", 2}};
+  EXPECT_EQ(series, expected);
+  const json& reference = spec["layer"][1];
+  EXPECT_EQ(reference["data"]["values"].size(), 8u) << "the reference's eight passes";
+  EXPECT_EQ(reference["data"]["values"][7]["error"].get<double>(), 4e-3 / 8);
+
+  // Without relMSE among the metrics there is no such plot: the reference estimates no other error.
+  json experiment = json::parse(read_text(folder / "experiment.json"));
+  experiment["metrics"] = {"psnr", "energy_ratio"};
+  experiment["primary_metric"] = "psnr";
+  experiment["claims"] = json::array();
+  write_json(folder / "experiment.json", experiment);
+  EXPECT_FALSE(plot_spec(read_text(write_report(folder.string()).html), "plot-error-time").is_object());
 }
 
 // The plots must render from file:// with no network: run headless Chromium on report.html.

@@ -363,7 +363,7 @@ TEST_F(VariantReportTest, CsvAndTablesHaveTheVariant) {
 TEST_F(VariantReportTest, PlotsRenderOfflineInChromium) {
   if (!fs::exists("/usr/bin/chromium")) GTEST_SKIP() << "chromium is not installed (scripts/setup.sh installs it)";
   ReportSummary summary = write_report(folder.string());
-  EXPECT_EQ(summary.plots, 3u);  // trade-off, convergence (three lines), the sweep of samples
+  EXPECT_EQ(summary.plots, 4u);  // trade-off, convergence (three lines), error against time, the sweep of samples
   std::string dom = chromium_dom(summary.html);
   ASSERT_FALSE(dom.empty()) << "chromium produced no DOM";
   EXPECT_GE(count(dom, "class=\"marks\""), summary.plots) << "every plot is drawn as an SVG";

@@ -284,7 +284,7 @@ TEST_F(ReportTest, TradeoffsOnAnyAxesAndTheViews) {
             std::string::npos);
   EXPECT_NE(md.find("| 0.01 | **40 ms \u00b7 relmse 0.005 \u00b7 k=50, photons=1000000** | not reached (best relmse 0.03) |"), std::string::npos) << "equal error, target 0.01";
   EXPECT_NE(md.find("not reached (best relmse 0.03)"), std::string::npos) << "pinhole never reaches 0.01";
-  EXPECT_EQ(summary.plots, 7u) << "two trade-offs, total cost, convergence, three sweeps";
+  EXPECT_EQ(summary.plots, 8u) << "two trade-offs, total cost, convergence, error against time, three sweeps";
 }
 
 // Ratio claims on the synthetic runs: pinhole samples=400 renders in 22.5 ms (0.75 x 30), samples=100

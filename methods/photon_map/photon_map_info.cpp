@@ -39,6 +39,7 @@ const MethodInfo& PhotonMapMethod::static_info() {
     c.notes = {{"moving_light", "photons are retraced every frame"},
                {"moving_objects", "photons are retraced every frame; a static scene's are traced once and cached"}};
     m.quick_knobs = {"photons=20000"};
+    m.budget_knob = "photons";
     m.counters = {counter_quantity("photons_emitted", "photons", "photons emitted toward the specular objects"),
                   counter_quantity("photons_stored", "photons", "caustic photons stored in the map")};
     return m;

@@ -77,6 +77,7 @@ const MethodInfo& PinholeMethod::static_info() {
                {"occlusion", "no visibility between reflector samples and receivers beyond back-face culling"},
                {"multiple_bounces", "one specular interaction only"}};
     m.quick_knobs = {"samples=64", "environment_resolution=32"};
+    m.budget_knob = "samples";
     m.counters = {counter_quantity("samples", "samples", "reflector samples (pinholes) per frame"),
                   counter_quantity("cube_map_texels", "texels", "texels of the light's cube map"),
                   counter_quantity("sample_evaluations", "evaluations",

@@ -59,6 +59,7 @@ const MethodInfo& ReferenceMethod::static_info() {
     c.moving_light = c.moving_objects = c.occlusion = c.non_lambertian_receivers = true;
     c.notes = {{"non_lambertian_receivers", "E_c is irradiance, independent of the receiver's BRDF"}};
     m.quick_knobs = {"photons_per_pass=20000", "max_passes=2", "target_error=0", "max_seconds=0"};
+    m.budget_knob = "max_passes";
     // Per receiver pixel its point, the tally's two photon moments and three replicate sums and (ppm) both
     // halves' statistics, as memory_bytes() counts them: 153 bytes with the footprint tally, 225 with ppm;
     // the larger is declared.

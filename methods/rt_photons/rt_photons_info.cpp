@@ -68,6 +68,7 @@ const MethodInfo& RtPhotonsMethod::static_info() {
                {"moving_light", "photons are traced every frame"},
                {"moving_objects", "photons are traced every frame"}};
     m.quick_knobs = {"photons_per_frame=16384", "emission_resolution=16"};
+    m.budget_knob = "photons_per_frame";
     m.counters = {counter_quantity("photons_emitted", "photons", "photons emitted this frame"),
                   counter_quantity("photons_landed", "photons", "photons that met a diffuse surface after a specular interaction"),
                   counter_quantity("photons_splatted", "photons", "landed photons that some pixel sees"),
