@@ -14,8 +14,15 @@ namespace {
 const Vec3 kFaceAxis[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
 const Vec3 kFaceU[6] = {{0, 1, 0}, {0, 0, 1}, {0, 0, 1}, {1, 0, 0}, {1, 0, 0}, {0, 1, 0}};
 
-// A point's grid: the six faces of a unit cube around `position`.
-// A sphere light of radius `reach` reaches a target from any of its points: the test widens by it.
+// The objects' middle: the mean of their bounding spheres' centres.
+Vec3 objects_middle(const std::vector<BoundingSphere>& targets) {
+  Vec3 middle(0.0f);
+  for (const BoundingSphere& target : targets) middle += target.center / static_cast<float>(targets.size());
+  return middle;
+}
+
+// A point's grid: the six faces of a unit cube around `position`. Photons leaving a sphere of radius
+// `reach` about it reach a target from any of its points: the test widens by it.
 EmissionGrid point_grid(const Vec3& position, float reach, const std::vector<BoundingSphere>& targets, int resolution) {
   EmissionGrid grid;
   grid.kind = LightKind::point;
@@ -83,9 +90,7 @@ EmissionGrid directional_grid(const Vec3& direction_to_light, float spread, cons
   const float side = std::max(upper_u - lower_u, upper_v - lower_v);
   grid.texel = side / static_cast<float>(resolution);
   grid.corner.push_back(lower_u * u + lower_v * v + back * to_light);
-  Vec3 middle(0.0f);
-  for (const BoundingSphere& target : input_targets) middle += target.center / static_cast<float>(input_targets.size());
-  grid.through = std::max(0.0f, back - glm::dot(middle, to_light));
+  grid.through = std::max(0.0f, back - glm::dot(objects_middle(input_targets), to_light));
   grid.axis_u.push_back(u);
   grid.axis_v.push_back(v);
   grid.active.assign(static_cast<size_t>(resolution) * resolution, 0);
@@ -120,11 +125,13 @@ std::vector<EmissionGrid> emission_grids(const LightFrame& light, size_t light_i
   // One map shared by the samples, where the light's blur moves a photon at the objects by less than a
   // texel (a sun's disk, a small sphere light): each photon takes one sample, and the map keeps its
   // stratification. Otherwise (an environment, a Gaussian spot, a wide disk or sphere) each sample its own
-  // map of resolution / sqrt(K) a side, so that the light's texels in all stay about resolution^2 (K maps
-  // of the full resolution would leave most texels one photon or none, and emission its stratification);
-  // a disk's, a spot's or a sphere's maps overlap (EmissionGrid::overlapping).
+  // map: a plane of resolution / sqrt(K) a side, so that the light's texels in all stay about
+  // resolution^2 (K planes of the full resolution would leave most texels one photon or none, and
+  // emission its stratification), a cube at the full resolution (below); a disk's, a spot's or a
+  // sphere's maps overlap (EmissionGrid::overlapping).
   if (light.kind == LightKind::point) {
-    EmissionGrid grid = point_grid(light.position, light.radius, targets, resolution);
+    // A sphere light's samples leave from its surface: the map's reach widens by its radius then.
+    EmissionGrid grid = point_grid(light.position, samples > 1 ? light.radius : 0.0f, targets, resolution);
     grid.emitted = light.light->intensity;
     float nearest = std::numeric_limits<float>::infinity();
     for (const BoundingSphere& target : targets) nearest = std::min(nearest, glm::length(target.center - light.position) - target.radius);
@@ -140,12 +147,12 @@ std::vector<EmissionGrid> emission_grids(const LightFrame& light, size_t light_i
     const float spread = samples > 1 ? std::acos(std::clamp(light.cos_cone, -1.0f, 1.0f)) : 0.0f;
     EmissionGrid grid = directional_grid(light.direction_to_light, spread, targets, scene, resolution);
     grid.emitted = light.light->irradiance;
-    // How far a photon through the plane of the objects' middle strays at the objects: its depth there
-    // times tan(spread).
+    // How far a photon through the plane of the objects' middle strays at the objects: their depth about
+    // that plane times tan(spread).
+    const Vec3 middle = objects_middle(targets), to_light = glm::normalize(light.direction_to_light);
     float depth = 0.0f;
     for (const BoundingSphere& target : targets)
-      depth = std::max(depth, std::abs(glm::dot(target.center, light.direction_to_light) -
-                                       glm::dot(grid.corner[0], light.direction_to_light) + grid.through) + target.radius);
+      depth = std::max(depth, std::abs(glm::dot(target.center - middle, to_light)) + target.radius);
     if (samples == 1 || depth * std::tan(spread) <= grid.texel) {
       if (samples > 1)
         for (int k = 0; k < samples; ++k) {
@@ -157,12 +164,15 @@ std::vector<EmissionGrid> emission_grids(const LightFrame& light, size_t light_i
     }
   }
   if (grids.empty()) {
+    // A plane across a beam covers only the objects, so a coarser one wastes no photon; a point's cube
+    // covers every direction, and coarser texels would send most of theirs past a small or distant object
+    // (a sphere light 100 units off at 8 texels a face: relMSE 11 against 0.05): it keeps its resolution.
     const int sample_resolution =
         samples == 1 ? resolution : std::max(4, static_cast<int>(std::lround(resolution / std::sqrt(double(samples)))));
     for (int k = 0; k < samples; ++k) {
       EmissionGrid grid;
       if (light.kind == LightKind::point) {
-        grid = point_grid(light.sample_position(draw(k, 0), draw(k, 1)), 0.0f, targets, sample_resolution);
+        grid = point_grid(light.sample_position(draw(k, 0), draw(k, 1)), 0.0f, targets, resolution);
         grid.emitted = light.light->intensity / static_cast<float>(samples);
         grid.overlapping = samples;
       } else {

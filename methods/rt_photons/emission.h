@@ -9,8 +9,9 @@
 // sampling, or points on a sphere light's surface, from a scrambled Sobol sequence redrawn every frame (so
 // that frames are independent estimates of the blur, and temporal accumulation averages them). A sun's
 // disk's and a sphere light's samples share one map (padded by the blur's reach), each photon taking one
-// of them; an environment's or a Gaussian spot's directions are too far apart for one plane, and each
-// gets its own map of resolution / sqrt(K) a side, carrying 1/K of the light.
+// of them; an environment's or a Gaussian spot's directions are too far apart for one plane (nor are a
+// wide disk's or sphere's), and each gets its own map carrying 1/K of the light: a plane of resolution /
+// sqrt(K) a side, or a cube at the full resolution.
 #pragma once
 
 #include <cstdint>

@@ -32,10 +32,8 @@ struct Kernel {
 
 // The kernel's r^2 at G-buffer pixel `pixel` for photon `photon` (the point inside the kernel where it is
 // below 1), or -1 where the point is not on the photon's surface (not a receiver, off its plane by more than
-// a pixel's footprint and a half, or turned more than 25 degrees from its normal). Inlined by force: the
-// splat's inner loop, for every pixel of a kernel's bounds in both passes.
-[[gnu::always_inline]] inline float surface_radius2(const LandedPhoton& photon, const Kernel& kernel, const GBuffer& gbuffer,
-                                                    size_t pixel) {
+// a pixel's footprint and a half, or turned more than 25 degrees from its normal).
+float surface_radius2(const LandedPhoton& photon, const Kernel& kernel, const GBuffer& gbuffer, size_t pixel) {
   if (!gbuffer.receiver[pixel]) return -1.0f;
   const Vec3 offset = gbuffer.position[pixel] - photon.position;
   const float plane = glm::dot(offset, photon.normal);
@@ -104,8 +102,8 @@ PixelRays pixel_rays(const CameraFrame& camera, const GBuffer& gbuffer) {
 // The kernel's weight times area at the point where `ray` (a pixel's camera ray) meets the photon's plane,
 // the area the pixel's footprint there (as core/gbuffer.cpp computes it); 0 where the ray does not meet it
 // or meets it no farther than `nearer_than` (behind the eye by default).
-[[gnu::always_inline]] inline double virtual_share(const LandedPhoton& photon, const Kernel& kernel, const CameraFrame& camera,
-                                                   const Vec3& view_axis, const Ray& ray, float nearer_than = 0.0f) {
+double virtual_share(const LandedPhoton& photon, const Kernel& kernel, const CameraFrame& camera, const Vec3& view_axis,
+                     const Ray& ray, float nearer_than = 0.0f) {
   const float facing = glm::dot(ray.direction, photon.normal);
   if (std::abs(facing) < 1e-6f) return 0.0;
   const float t = glm::dot(photon.position - ray.origin, photon.normal) / facing;
