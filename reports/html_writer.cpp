@@ -225,7 +225,7 @@ std::string html_document(const Report& report) {
       // Three pictures (E_c, |delta|, FLIP) need a wider card than two.
       out += std::string("<div class=\"card") + (thumb.reference ? " reference" : "") +
              (thumb.flip_png.empty() ? "" : " triple") + "\"><div class=\"title\">" +
-             (thumb.reference || thumb.viewer_id.empty()
+             (thumb.viewer_id.empty()
                   ? html_escape(thumb.title)
                   : "<a href=\"viewer.html#run=" + html_escape(thumb.viewer_id) + "\">" + html_escape(thumb.title) + "</a>") +
              "</div><div class=\"pair\">";

@@ -162,8 +162,8 @@ std::string viewer_reference_id(const std::string& reference_key, int64_t frame)
   return "reference/" + reference_key + "/" + std::to_string(frame);
 }
 
-// A reference frame in the viewer, once: its pixels, its receivers' mean (the runs' exposure and error
-// scale come from it) and its own estimated error, when stored, is not shown (the report's thumbnail does).
+// A reference frame in the viewer, once: its pixels and its receivers' mean (the runs' exposure and error
+// scale come from it).
 void add_reference_to_viewer(ViewerData& viewer, const ReferenceFrame& reference, const std::string& reference_key,
                              int64_t frame, const std::string& title) {
   const std::string id = viewer_reference_id(reference_key, frame);
@@ -242,7 +242,6 @@ void make_images(Report& report, std::set<std::string>& written) {
     write_thumbnail(reference.image, images / thumb.ec_png, exposure);
     written.insert(thumb.ec_png);
     add_reference_to_viewer(viewer, reference, variant.reference_key, first_frame, thumb.title);
-    thumb.viewer_id = viewer_reference_id(variant.reference_key, first_frame);
     if (!(reference.mean > 0.0)) thumb.note = "black over the receivers: no error maps against it";
     report.thumbnails.push_back(thumb);
     if (!(reference.mean > 0.0)) continue;  // error maps need the reference's mean as their scale

@@ -134,7 +134,7 @@ struct VariantViews {
 
 struct Thumbnail {
   std::string title, caption, ec_png, error_png, flip_png, note;
-  std::string viewer_id;  // the run's (or reference's) entry in the viewer, "" when it has none
+  std::string viewer_id;  // a run's entry in the viewer (its key), "" when it has none
   bool reference = false;
 };
 
