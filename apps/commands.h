@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "reports/report.h"
+
 namespace causticbench {
 
 struct RenderOptions {
@@ -50,7 +52,7 @@ struct SlurmOptions {
 int run_slurm(const SlurmOptions& options);
 // Exit code 0 when every run is stored, 3 when runs are pending.
 int run_status(const std::string& folder);
-int run_report(const std::string& folder, bool recompute_metrics = false);
+int run_report(const std::string& folder, bool recompute_metrics = false, double viewer_megabytes = kDefaultViewerMegabytes);
 // `causticbench summarize`: the study's summary across experiment folders, into `out` (empty: the first
 // folder's parent).
 int run_summarize(const std::vector<std::string>& folders, const std::string& out);

@@ -53,14 +53,14 @@ int run_experiment_command(const ExperimentOptions& options) {
   return 0;
 }
 
-int run_report(const std::string& folder, bool recompute_metrics) {
+int run_report(const std::string& folder, bool recompute_metrics, double viewer_megabytes) {
   if (recompute_metrics) {
     RecomputeSummary recomputed = causticbench::recompute_metrics(folder);
     for (const std::string& problem : recomputed.problems) fmt::print(stderr, "warning: {}\n", problem);
     fmt::print("metrics recomputed for {} runs ({} skipped: failed, missing or not matching their images)\n",
                recomputed.recomputed, recomputed.skipped);
   }
-  ReportSummary report = write_report(folder);
+  ReportSummary report = write_report(folder, viewer_megabytes);
   fmt::print("report: {} ({} runs, {} failed)\n", report.html, report.runs, report.failed);
   fmt::print("also: {}, {}, {}\n", report.markdown, report.csv, report.json);
   if (!report.viewer.empty())

@@ -82,6 +82,13 @@ int main(int argc, char** argv) {
       "report", "Write report.html, viewer.html, report.md, results.csv and results.json for RESULTS/<experiment>/ from the stored runs.");
   report_command->add_option("folder", report_folder, "an experiment's results folder")->required();
   bool recompute_metrics = false;
+  double viewer_megabytes = kDefaultViewerMegabytes;
+  report_command
+      ->add_option("--viewer-mb", viewer_megabytes,
+                   "what the viewer's pixel files of frames beyond each run's first may take, in MB (every k-th frame "
+                   "of every run, the least k that fits; 0: first frames only)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e6));
   report_command->add_flag("--recompute-metrics", recompute_metrics,
                            "first compute every metric of experiment.json again from the stored images (after a metric\n"
                            "was added or fixed), rewriting each run's record atomically; no method is run");
@@ -158,7 +165,7 @@ int main(int argc, char** argv) {
   try {
     if (*render_command) return run_render(render);
     if (*run_command) return run_experiment_command(experiment);
-    if (*report_command) return run_report(report_folder, recompute_metrics);
+    if (*report_command) return run_report(report_folder, recompute_metrics, viewer_megabytes);
     if (*summarize_command) return run_summarize(summarize_folders, summarize_out);
     if (*slurm_command) return run_slurm(slurm);
     if (*status_command) return run_status(status_folder);

@@ -314,6 +314,7 @@ nlohmann::json Experiment::to_json() const {
           {"variants", variants_json},
           {"frames", frames},
           {"repetitions", repetitions},
+          {"seeds", seeds},
           {"pixel_samples", pixel_samples},
           {"metrics", metrics},
           {"primary_metric", primary_metric},
@@ -360,6 +361,7 @@ Experiment load_experiment(const std::string& path) {
     }
   }
   experiment.repetitions = root.integer_or("repetitions", 3, 1, 1000);
+  experiment.seeds = static_cast<int>(root.integer_or("seeds", 1, 1, 1000));
   experiment.pixel_samples = static_cast<int>(root.integer_or("pixel_samples", 1, 1, 256));
   if (!valid_pixel_samples(experiment.pixel_samples)) {
     root.fail("pixel_samples", "a square number of points per pixel (1, 4, 9, 16, ..., 256)",

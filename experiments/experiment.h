@@ -61,6 +61,10 @@ struct Experiment {
   std::vector<SceneVariant> variants;  // at least one
   std::vector<int> frames;
   int repetitions = 3;
+  // `seeds: N`: every stochastic run (one whose knobs have a seed) is measured with N seeds, its own and
+  // the next N - 1 (experiments/seed_replicas.h); its metrics are their means with 95 % intervals. Not in
+  // any run key: a run measured with fewer seeds than asked is measured again under the same key.
+  int seeds = 1;
   // Stratified points per pixel at which every method is rendered and averaged (docs/metrics.md,
   // "pixel_samples"); 1: the pixel centre alone. In a run's key only when it is not 1.
   int pixel_samples = 1;

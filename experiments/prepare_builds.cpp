@@ -9,6 +9,7 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/progress.h"
+#include "experiments/seed_replicas.h"
 #include "store/build_cache.h"
 #include "methods/lifecycle.h"
 #include "methods/registry.h"
@@ -20,7 +21,16 @@ BuildSummary prepare_missing_builds(const Experiment& experiment, const std::vec
   BuildSummary summary;
   // One run per group, variant by variant so that one rest pose is kept at a time.
   std::map<std::pair<size_t, std::string>, const RunSpec*> groups;
-  for (const RunSpec* run : runs) groups.insert({{run->variant, run->method + run->build.to_json().dump()}, run});
+  // A seed that is a build knob: every seed the runs are measured with has a build of its own.
+  std::vector<std::unique_ptr<RunSpec>> replicas;
+  for (const RunSpec* run : runs) {
+    groups.insert({{run->variant, run->method + run->build.to_json().dump()}, run});
+    if (!run->build.has("seed")) continue;
+    for (int s = 1; s < seed_count(experiment, *run); ++s) {
+      replicas.push_back(std::make_unique<RunSpec>(seed_replica(*run, s)));
+      groups.insert({{run->variant, run->method + replicas.back()->build.to_json().dump()}, replicas.back().get()});
+    }
+  }
   Progress progress("builds of " + experiment.name, static_cast<double>(groups.size()));
   std::set<std::string> seen_keys;  // a build serves every variant: computed once
   BuildCacheFolder builds(paths.builds());

@@ -13,6 +13,7 @@
 #include "store/result_paths.h"
 #include "store/run_folders.h"
 #include "experiments/run_measurement.h"
+#include "experiments/seed_replicas.h"
 #include "store/store_files.h"
 #include "store/store_lock.h"
 #include "metrics/metrics.h"
@@ -40,9 +41,9 @@ const json& checksum_of(const json& images, const std::string& file) {
   return images.is_object() && images.contains(file) ? images[file] : none;
 }
 
-// Scores one stored record again; throws InputError naming what does not match.
-void rescore(RunRecord& record, const fs::path& run_folder, const fs::path& reference_folder,
-             const std::vector<std::string>& metrics) {
+// Scores one seed's frames (or a run measured once) again; throws InputError naming what does not match.
+void rescore_frames(RunRecord& record, const fs::path& run_folder, const fs::path& reference_folder,
+                    const std::vector<std::string>& metrics) {
   std::vector<Image> tests, references;
   std::vector<std::vector<uint8_t>> masks;
   tests.reserve(record.frames.size());
@@ -73,6 +74,25 @@ void rescore(RunRecord& record, const fs::path& run_folder, const fs::path& refe
     scored.push_back(one);
   }
   score_run(record, metrics, scored);
+}
+
+// Scores one stored record again: each of its seeds, then their means and intervals.
+void rescore(RunRecord& record, const fs::path& run_folder, const fs::path& reference_folder,
+             const std::vector<std::string>& metrics) {
+  if (!record.seeds) {
+    rescore_frames(record, run_folder, reference_folder, metrics);
+    return;
+  }
+  for (SeedRun& seed : record.seeds->runs) {
+    RunRecord one = record;  // its images, checksums and empty frames; its frames those of the seed
+    one.seeds.reset();
+    one.frames = seed.frames;
+    rescore_frames(one, run_folder, reference_folder, metrics);
+    seed.frames = one.frames;
+    seed.metrics = one.metrics;
+    seed.metrics_undefined = one.metrics_undefined;
+  }
+  aggregate_seeds(record);
 }
 
 }  // namespace

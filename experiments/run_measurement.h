@@ -19,7 +19,10 @@ namespace causticbench {
 
 struct RunOutcome {
   RunRecord record;
-  std::vector<std::pair<int, Image>> images;
+  std::vector<std::pair<int, Image>> images;  // frame -> E_c, stored as frame_NNNN.exr
+  // More images by file name: the other seeds' frames and the standard deviations over the seeds
+  // (experiments/seed_replicas.h).
+  std::vector<std::pair<std::string, Image>> more_images;
 };
 
 // The fields that say which run a record is, for finished and failed runs alike (status ok, no frames).

@@ -4,11 +4,13 @@
 
 #include <fmt/format.h>
 
+#include "experiments/seed_replicas.h"
+
 namespace causticbench {
 
 RunAddress run_address(const Experiment& experiment, const RunSpec& run) {
   const SceneVariant& variant = experiment.variants.at(run.variant);
-  return RunAddress{run.key, run.label, variant.reference_key, variant.content_hash};
+  return RunAddress{run.key, run.label, variant.reference_key, variant.content_hash, seed_count(experiment, run)};
 }
 
 RunSelection select_runs(const Experiment& experiment, const RunOptions& options, ResultStore& store) {

@@ -18,6 +18,7 @@
 #include "experiments/run_measurement.h"
 #include "experiments/prepare_builds.h"
 #include "experiments/run_selection.h"
+#include "experiments/seed_replicas.h"
 #include "experiments/shard_plan.h"
 #include "store/store_files.h"
 #include "core/staging_folder.h"
@@ -52,10 +53,13 @@ namespace {
 // At most this many runs are claimed (their locks held, one file descriptor each) and played together;
 // runs that differ only in render knobs share each frame's update() within such a batch.
 constexpr size_t kRunsPerBatch = 256;
+// What a batch of runs measured with several seeds may hold in images before they are stored.
+constexpr double kSeedImageBytes = 2.0 * (1 << 30);
 
 void store_run(ResultStore& store, const RunClaim& claim, const RunOutcome& outcome) {
   std::vector<std::pair<std::string, std::string>> images;
   for (const auto& [frame, image] : outcome.images) images.push_back({ResultPaths::frame_file(frame) + ".exr", encode_exr(image)});
+  for (const auto& [file, image] : outcome.more_images) images.push_back({file, encode_exr(image)});
   store.put(claim, images, outcome.record.to_json());
 }
 
@@ -135,9 +139,10 @@ class RunExecutor {
     std::unique_ptr<CausticMethod> method;
     PrepareOutcome prepared;
     std::string prepare_error;
+    const size_t per_batch = runs_per_batch(first);
     for (const std::vector<PendingRun>& runs : group.by_frame_knobs) {
-      for (size_t begin = 0; begin < runs.size(); begin += kRunsPerBatch) {
-        std::vector<PendingRun> batch(runs.begin() + begin, runs.begin() + std::min(runs.size(), begin + kRunsPerBatch));
+      for (size_t begin = 0; begin < runs.size(); begin += per_batch) {
+        std::vector<PendingRun> batch(runs.begin() + begin, runs.begin() + std::min(runs.size(), begin + per_batch));
         std::vector<ClaimedRun> claimed = claim(batch, held_by_others);
         if (claimed.empty()) continue;
         use_variant(first.variant);
@@ -152,6 +157,16 @@ class RunExecutor {
         play(*method, prepared, claimed);
       }
     }
+  }
+
+  // A batch holds every seed's images of its runs until they are stored: with several seeds, as many
+  // runs as keep them within kSeedImageBytes.
+  size_t runs_per_batch(const RunSpec& run) const {
+    const int seeds = seed_count(experiment_, run);
+    if (seeds == 1) return kRunsPerBatch;
+    const Camera& camera = experiment_.variants.at(run.variant).scene.camera;
+    const double bytes = 12.0 * camera.width * camera.height * static_cast<double>(experiment_.frames.size()) * (seeds + 1);
+    return std::clamp<size_t>(static_cast<size_t>(kSeedImageBytes / bytes), 1, kRunsPerBatch);
   }
 
   // The runs of `batch` whose lock this process takes and that still need running.
@@ -204,25 +219,60 @@ class RunExecutor {
     return "";
   }
 
+  // Plays the claimed runs (one variant, method, build and frame knobs) with each of their seeds, the
+  // run's own first; a seed that is a build knob gets its own prepare(). Each run is stored once all of
+  // its seeds are measured (experiments/seed_replicas.h).
   void play(CausticMethod& method, const PrepareOutcome& prepared, const std::vector<ClaimedRun>& claimed) {
     const RunSpec& first = *claimed.front().run;
     auto empty = references_.empty.find(first.variant);
     const std::vector<FramePresence>& empty_reference = empty == references_.empty.end() ? scored_ : empty->second;
-    std::vector<ParamSet> render_sets;
-    for (const ClaimedRun& run : claimed) render_sets.push_back(run.run->render);
-    std::vector<SequenceOutput> outputs;
-    try {
-      outputs = play_sequence(method, frames_.sequence(experiment_.frames), first.frame, render_sets,
-                              TimingProtocol{true, experiment_.repetitions, experiment_.pixel_samples});
-    } catch (const std::exception& error) {
-      for (const ClaimedRun& run : claimed) fail(run, error.what());
-      return;
+    const int seeds = seed_count(experiment_, first);
+    std::vector<std::vector<RunOutcome>> outcomes(claimed.size());
+    for (int s = 0; s < seeds; ++s) {
+      std::vector<RunSpec> replicas;
+      for (const ClaimedRun& run : claimed) replicas.push_back(seed_replica(*run.run, s));
+      const std::string which = s == 0 ? "" : fmt::format("seed {}: ", replicas.front().params.integer("seed"));
+      CausticMethod* instance = &method;
+      const PrepareOutcome* instance_prepared = &prepared;
+      std::unique_ptr<CausticMethod> own;
+      PrepareOutcome own_prepared;
+      if (s > 0 && replicas.front().build.has("seed")) {
+        own = create_method(first.method);
+        const std::string error = prepare(*own, experiment_.variants.at(first.variant), replicas.front(), own_prepared);
+        if (!error.empty()) {
+          for (const ClaimedRun& run : claimed) fail(run, which + error);
+          return;
+        }
+        instance = own.get();
+        instance_prepared = &own_prepared;
+      }
+      std::vector<ParamSet> render_sets;
+      for (const RunSpec& replica : replicas) render_sets.push_back(replica.render);
+      std::vector<SequenceOutput> outputs;
+      try {
+        outputs = play_sequence(*instance, frames_.sequence(experiment_.frames), replicas.front().frame, render_sets,
+                                TimingProtocol{true, experiment_.repetitions, experiment_.pixel_samples});
+      } catch (const std::exception& error) {
+        for (const ClaimedRun& run : claimed) fail(run, which + error.what());
+        return;
+      }
+      for (size_t r = 0; r < claimed.size(); ++r) {
+        try {
+          outcomes[r].push_back(measure_run(experiment_, replicas[r], *instance, *instance_prepared, std::move(outputs[r]),
+                                            frames_, empty_reference));
+        } catch (const std::exception& error) {
+          RunOutcome failed;
+          failed.record = run_identity(experiment_, replicas[r]);
+          failed.record.status = "failed";
+          failed.record.error = which + error.what();
+          outcomes[r].push_back(std::move(failed));
+        }
+      }
     }
     for (size_t r = 0; r < claimed.size(); ++r) {
       const RunSpec& run = *claimed[r].run;
       try {
-        RunOutcome outcome =
-            measure_run(experiment_, run, method, prepared, std::move(outputs[r]), frames_, empty_reference);
+        RunOutcome outcome = seeds > 1 ? combine_seeds(std::move(outcomes[r])) : std::move(outcomes[r].front());
         store_run(store_, claimed[r].claim, outcome);
         if (outcome.record.ok()) {
           ++summary_.completed;

@@ -7,6 +7,7 @@
 
 #include "core/errors.h"
 #include "core/files.h"
+#include "experiments/seed_replicas.h"
 #include "store/run_folders.h"
 #include "store/store_files.h"
 
@@ -18,7 +19,7 @@ namespace {
 double model_units(const Experiment& experiment, const RunSpec& run) {
   const Camera& camera = experiment.variants.at(run.variant).scene.camera;
   return static_cast<double>(camera.width) * camera.height * static_cast<double>(experiment.frames.size()) *
-         (experiment.repetitions + 1);
+         (experiment.repetitions + 1) * seed_count(experiment, run);
 }
 
 struct StoredCost {
@@ -45,6 +46,9 @@ StoredCost stored_cost(const ResultPaths& paths, const Experiment& experiment, c
       cost.timed = true;
     }
   }
+  // Its frames' timings are its first seed's: each of its seeds took about as long.
+  if (record.contains("seeds") && record["seeds"].is_object() && record["seeds"].value("runs", nlohmann::json()).is_array())
+    cost.run_seconds *= static_cast<double>(std::max<size_t>(1, record["seeds"]["runs"].size()));
   if (record.contains("prepare") && record["prepare"].is_object() && record["prepare"].value("build_key", "").empty()) {
     cost.uncached_prepare = record["prepare"].value("prepare_seconds", 0.0);
   }

@@ -74,8 +74,17 @@ std::string claim_evidence(const Report& report, const ClaimResult& result, Form
   const json& claim = result.claim;
   std::string quantity = escaped(result.quantity, format);
   auto point = [&](const ClaimPoint& p) {
-    return escaped(report.display(p.run), format) + " (" + quantity + " " + num(p.value) + ")";
+    // With several seeds, the mean and its 95 % half-width.
+    const std::optional<MetricInterval> interval = report.runs[p.run].interval(result.quantity);
+    const std::string spread =
+        report.seeds > 1 && interval ? " \u00b1 " + num(interval->half_width) : std::string();
+    return escaped(report.display(p.run), format) + " (" + quantity + " " + num(p.value) + spread + ")";
   };
+  const std::string apart =
+      result.pairs_not_separated
+          ? fmt::format(" {} of {} pair{} not separated: the 95 % intervals overlap.", result.pairs_not_separated,
+                        std::max<size_t>(result.pairs, 1), std::max<size_t>(result.pairs, 1) == 1 ? "" : "s")
+          : "";
   std::string direction = quantity + ": " + escaped(direction_text(result.quantity), format) + ".";
   const std::string first_note = not_counted_note(result.failed_first, result.undefined_first);
   const std::string other_note = not_counted_note(result.failed_other, result.undefined_other);
@@ -89,12 +98,12 @@ std::string claim_evidence(const Report& report, const ClaimResult& result, Form
                          runs_text(total), quantity, total == 1 ? "es" : "", among, first_note,
                          result.first_count, expect, expect);
     }
-    bool confirmed = result.verdict == Verdict::confirmed;
+    bool confirmed = quantity_better(result.quantity, result.first->value, result.other->value);
     const ClaimPoint& best = confirmed ? *result.first : *result.other;
     const ClaimPoint& runner = confirmed ? *result.other : *result.first;
-    return fmt::format("best of {} matching {}{}: {}, which {} {}; best run {} it: {}. {}", runs_text(total), among,
+    return fmt::format("best of {} matching {}{}: {}, which {} {}; best run {} it: {}.{} {}", runs_text(total), among,
                        first_note, point(best), confirmed ? "matches" : "does not match",
-                       expect, confirmed ? "not matching" : "matching", point(runner), direction);
+                       expect, confirmed ? "not matching" : "matching", point(runner), apart, direction);
   }
   if (result.kind == "better" || result.kind == "same") {
     std::string run = code_text(string_member(claim, "run"), format);
@@ -109,9 +118,9 @@ std::string claim_evidence(const Report& report, const ClaimResult& result, Form
     // With several pairs, how many of them beat: what makes the verdict partly.
     std::string pairs = result.pairs > 1 ? fmt::format(" Better in {} of {} pairs.", result.pairs_holding, result.pairs)
                                          : "";
-    return fmt::format("worst of {} matching {}{}: {}; best of {} matching {}{}: {}.{} {}",
+    return fmt::format("worst of {} matching {}{}: {}; best of {} matching {}{}: {}.{}{} {}",
                        runs_text(result.first_count), run, first_note, point(*result.first),
-                       runs_text(result.other_count), than, other_note, point(*result.other), pairs,
+                       runs_text(result.other_count), than, other_note, point(*result.other), pairs, apart,
                        direction);
   }
   if (result.kind == "ratio") {

@@ -25,6 +25,8 @@ const char* verdict_name(Verdict verdict) {
       return "partly";
     case Verdict::refuted:
       return "refuted";
+    case Verdict::not_separated:
+      return "not separated";
     case Verdict::not_measured:
       break;
   }
@@ -33,7 +35,15 @@ const char* verdict_name(Verdict verdict) {
 
 const char* verdict_badge(Verdict verdict) {
   // "not measured" has a space, which a class name cannot hold.
+  if (verdict == Verdict::not_separated) return "unseparated";
   return verdict == Verdict::not_measured ? "unmeasured" : verdict_name(verdict);
+}
+
+Verdict verdict_of_separated_count(size_t holding, size_t failing, size_t total) {
+  if (total == 0) return Verdict::not_measured;
+  if (holding == total) return Verdict::confirmed;
+  if (holding > 0) return Verdict::partly;
+  return failing > 0 ? Verdict::refuted : Verdict::not_separated;
 }
 
 Verdict verdict_of_count(size_t holding, size_t total) {
@@ -44,7 +54,8 @@ Verdict verdict_of_count(size_t holding, size_t total) {
 
 std::string ClaimCounts::breakdown() const {
   std::vector<std::string> parts;
-  for (Verdict verdict : kVerdicts) parts.push_back(fmt::format("{} {}", of(verdict), verdict_name(verdict)));
+  for (Verdict verdict : kVerdicts)
+    if (verdict != Verdict::not_separated || of(verdict)) parts.push_back(fmt::format("{} {}", of(verdict), verdict_name(verdict)));
   return joined(parts);
 }
 

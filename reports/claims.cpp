@@ -113,9 +113,14 @@ void evaluate_best(const Report& report, ClaimResult& result) {
   result.first = extreme(expected, result.quantity, false);
   result.other = extreme(others, result.quantity, false);
   if (points.size() < 2 || !result.first || !result.other) return;
-  // One best run: it matches `expect` or it does not, so there is no "partly".
+  // One best run: it matches `expect` or it does not, so there is no "partly"; with intervals that overlap,
+  // neither is told apart.
   result.verdict = quantity_better(result.quantity, result.first->value, result.other->value) ? Verdict::confirmed
                                                                                             : Verdict::refuted;
+  if (!separated(report.runs[result.first->run], report.runs[result.other->run], result.quantity)) {
+    result.verdict = Verdict::not_separated;
+    result.pairs_not_separated = 1;
+  }
 }
 
 // The values of the runs matching `run` and `than` (better, same, ratio), with their counts, failed and
@@ -138,12 +143,20 @@ void evaluate_better(const Report& report, ClaimResult& result) {
   result.first = extreme(mine, result.quantity, true);
   result.other = extreme(theirs, result.quantity, false);
   // Every pair counts: all beat (the worst of `run` beats the best of `than`), none, or some.
+  // With intervals (several seeds), a pair whose intervals overlap is not separated, whichever mean is better.
+  size_t holding_apart = 0, failing_apart = 0;
   for (const ClaimPoint& a : mine)
     for (const ClaimPoint& b : theirs) {
       ++result.pairs;
-      result.pairs_holding += quantity_better(result.quantity, a.value, b.value);
+      const bool holds = quantity_better(result.quantity, a.value, b.value);
+      result.pairs_holding += holds;
+      if (!separated(report.runs[a.run], report.runs[b.run], result.quantity))
+        ++result.pairs_not_separated;
+      else
+        ++(holds ? holding_apart : failing_apart);
     }
-  result.verdict = verdict_of_count(result.pairs_holding, result.pairs);
+  result.verdict = result.pairs_not_separated ? verdict_of_separated_count(holding_apart, failing_apart, result.pairs)
+                                              : verdict_of_count(result.pairs_holding, result.pairs);
 }
 
 // How far |a - b| lies beyond what the claim's tolerances allow for the pair (<= 0: within).

@@ -65,6 +65,17 @@ void compute_views(Report& report) {
   }
 }
 
+namespace {
+
+// An error value, with its 95 % half-width in an experiment with several seeds.
+std::string error_text(const Report& report, const Run& run, double error) {
+  const std::optional<MetricInterval> interval = run.interval(report.primary);
+  if (report.seeds > 1 && interval) return num(error) + " \u00b1 " + num(interval->half_width);
+  return num(error);
+}
+
+}  // namespace
+
 Table equal_time_table(const Report& report, size_t variant) {
   const VariantViews& views = report.views.at(variant);
   Table table;
@@ -75,16 +86,21 @@ Table equal_time_table(const Report& report, size_t variant) {
   for (const EqualTimeRow& row : views.equal_time) {
     std::vector<Cell> cells = {{budget_text(row.budget_ms)}};
     std::optional<double> best;
+    std::optional<size_t> best_run;
     for (const BudgetAnswer& answer : row.methods)
-      if (answer.best && (!best || quantity_better(report.primary, views.points[*answer.best].error, *best)))
+      if (answer.best && (!best || quantity_better(report.primary, views.points[*answer.best].error, *best))) {
         best = views.points[*answer.best].error;
+        best_run = views.runs[*answer.best];
+      }
     for (const BudgetAnswer& answer : row.methods) {
       if (answer.best) {
         const CostPoint& point = views.points[*answer.best];
         const Run& run = report.runs[views.runs[*answer.best]];
-        Cell cell{fmt::format("{} {} \u00b7 {} ms \u00b7 {}", report.primary, num(point.error), num(point.frame_ms),
-                              knobs_of(run))};
+        Cell cell{fmt::format("{} {} \u00b7 {} ms \u00b7 {}", report.primary, error_text(report, run, point.error),
+                              num(point.frame_ms), knobs_of(run))};
         cell.best = best && !quantity_better(report.primary, *best, point.error);
+        // Not the best, but not told apart from it at 95 %.
+        if (!cell.best && best_run && !separated(run, report.runs[*best_run], report.primary)) cell.text += " \u2248";
         cells.push_back(cell);
       } else if (answer.fastest) {
         cells.push_back({fmt::format("not reached (fastest {} ms)", num(views.points[*answer.fastest].frame_ms))});
@@ -114,9 +130,12 @@ Table equal_error_table(const Report& report, size_t variant) {
       if (answer.fastest) {
         const CostPoint& point = views.points[*answer.fastest];
         const Run& run = report.runs[views.runs[*answer.fastest]];
-        Cell cell{fmt::format("{} ms \u00b7 {} {} \u00b7 {}", num(point.frame_ms), report.primary, num(point.error),
-                              knobs_of(run))};
+        Cell cell{fmt::format("{} ms \u00b7 {} {} \u00b7 {}", num(point.frame_ms), report.primary,
+                              error_text(report, run, point.error), knobs_of(run))};
         cell.best = fastest && point.frame_ms <= *fastest;
+        // Reached by the mean, but the target lies within the interval: not separated from it.
+        const std::optional<MetricInterval> interval = run.interval(report.primary);
+        if (interval && interval->half_width > 0.0 && interval->contains(row.target)) cell.text += " \u2248";
         cells.push_back(cell);
       } else if (answer.closest) {
         cells.push_back({fmt::format("not reached (best {} {})", report.primary,
@@ -163,8 +182,11 @@ std::string views_caption(const Report& report) {
       "Equal time: per frame budget, the best {0} each method reaches with a median frame time within it, and with "
       "which knobs. Equal error: per target, the least frame time at which each method reaches a {0} at least as "
       "good{1}. Break-even: after how many frames a run that precomputes more costs no more in total (prepare + N "
-      "\u00d7 frame time) than every run of another method that is at least as accurate. Marked: the best of the row.",
-      report.primary, report.error_targets.empty() ? " (targets: the best error each method reaches)" : "");
+      "\u00d7 frame time) than every run of another method that is at least as accurate. Marked: the best of the row.{2}",
+      report.primary, report.error_targets.empty() ? " (targets: the best error each method reaches)" : "",
+      report.seeds > 1 ? " Errors are means over the seeds \u00b1 their 95 % interval; \u2248: not separated (equal time: "
+                         "its interval overlaps the row's best; equal error: the target lies within its interval)."
+                       : "");
 }
 
 std::vector<std::string> budget_lines(const Report& report) {

@@ -68,6 +68,11 @@ std::string results_csv(const Report& report) {
   header.push_back("lost_flux");
   for (const auto& name : counters) header.push_back("counter." + name);
   for (const char* name : {"pareto_front", "reference_key", "git_revision", "record_version"}) header.push_back(name);
+  // Measured with several seeds: how many, and each metric's 95 % half-width (the value is the mean).
+  if (report.seeds > 1) {
+    header.push_back("seeds");
+    for (const auto& name : metrics) header.push_back(name + ".ci95");
+  }
 
   // Whole numbers (bytes, counts) without a fraction, the others in full precision.
   auto number_cell = [](std::optional<double> value) {
@@ -117,6 +122,13 @@ std::string results_csv(const Report& report) {
     cells.push_back(csv_cell(run.reference_key));
     cells.push_back(csv_cell(record.git_revision));
     cells.push_back(std::to_string(record.record_version));
+    if (report.seeds > 1) {
+      cells.push_back(measured ? std::to_string(record.seed_count()) : "");
+      for (const auto& name : metrics) {
+        const std::optional<MetricInterval> interval = run.interval(name);
+        cells.push_back(interval ? csv_value(json(interval->half_width)) : "");
+      }
+    }
     out += join(cells, ",") + "\n";
   }
   return out;

@@ -11,7 +11,11 @@ namespace causticbench::report_detail {
 // "relmse 0.012", "relmse undefined", or "empty reference": the primary metric under a run's picture.
 std::string primary_caption(const Report& report, const Run& run) {
   if (run.empty_reference) return "empty reference";
-  if (auto value = run.metric(report.primary)) return report.primary + " " + num(*value);
+  if (auto value = run.metric(report.primary)) {
+    const std::optional<MetricInterval> interval = run.interval(report.primary);
+    if (report.seeds > 1 && interval) return report.primary + " " + num(*value) + " \u00b1 " + num(interval->half_width);
+    return report.primary + " " + num(*value);
+  }
   return report.primary + (run.undefined_reason(report.primary).empty() ? " \u2014" : " undefined");
 }
 
@@ -45,6 +49,11 @@ std::vector<std::pair<std::string, std::string>> experiment_facts(const Report& 
   if (!report.multi() && !resolution.empty()) facts.push_back({"resolution", resolution});
   add("frames", member(report.experiment, "frames"));
   add("repetitions", member(report.experiment, "repetitions"));
+  if (report.seeds > 1)
+    facts.push_back({"seeds", fmt::format("{} (a stochastic run's metrics are the means over {} seeds, its own and the "
+                                          "next, \u00b1 their 95 % Student-t interval; a deterministic run is measured "
+                                          "once, \u00b1 0; \u2248: not separated from the best, the intervals overlap)",
+                                          report.seeds, report.seeds)});
   {
     // Which quantity the methods were measured at (docs/metrics.md, "pixel_samples").
     const nlohmann::json& samples = member(report.experiment, "pixel_samples");
@@ -112,12 +121,25 @@ std::vector<std::string> findings(const Report& report, bool html) {
       auto time = report.runs[i].frame_ms();
       if (finite(time) && (!fastest || *time < *report.runs[*fastest].frame_ms())) fastest = i;
     }
-    if (best) lines.push_back("Best " + report.primary + in + ": " + describe(*best) + ".");
+    if (best) {
+      // The runs whose interval overlaps the best's: the best mean is not told apart from theirs.
+      std::vector<std::string> close;
+      for (size_t i : report.ok_runs())
+        if (i != *best && report.runs[i].variant_index == v && report.runs[i].metric(report.primary) &&
+            !separated(report.runs[*best], report.runs[i], report.primary))
+          close.push_back(name(i));
+      lines.push_back("Best " + report.primary + in + ": " + describe(*best) +
+                      (close.empty() ? "" : "; not separated (95 % intervals overlap) from " + join(close, ", ")) + ".");
+    }
     if (fastest) lines.push_back("Fastest frame" + in + ": " + describe(*fastest) + ".");
     const std::vector<size_t>& overall = report.fronts[v].overall;
     if (!overall.empty()) {
       std::vector<std::string> steps;
-      for (size_t i : overall) steps.push_back(describe(i));
+      for (size_t k = 0; k < overall.size(); ++k)
+        steps.push_back(describe(overall[k]) +
+                        (k > 0 && !separated(report.runs[overall[k - 1]], report.runs[overall[k]], report.primary)
+                             ? " (not separated from the previous: intervals overlap)"
+                             : ""));
       lines.push_back("Pareto front over all methods" + in +
                       " (fastest first, \u25c6 in the table): " + join(steps, " \u2192 ") + ".");
     }

@@ -140,7 +140,8 @@ std::string html_document(const Report& report) {
     out +=
         "<p class=\"caption\">The paper's claims (experiment.json \"claims\") checked on the finished runs: green "
         "confirmed, amber partly (true for some of the pairs or groups it covers, not for others), red refuted, "
-        "grey not measured (too few finished runs match).</p>\n";
+        "slate not separated (with several seeds: the 95 % intervals of every pair overlap), grey not measured "
+        "(too few finished runs match).</p>\n";
   }
 
   if (std::optional<CapabilityMatrix> matrix = report_capability_matrix(report)) out += capability_matrix_html(*matrix);

@@ -100,6 +100,7 @@ void make_error_time_plot(Report& report) {
   json rows = json::array();
   std::vector<double> xs, ys;
   std::map<std::string, size_t> points_per_series;
+  bool banded = false;
   for (size_t i : report.ok_runs()) {
     const Run& run = report.runs[i];
     std::string knob;
@@ -122,6 +123,14 @@ void make_error_time_plot(Report& report) {
     row["budget"] = knob + "=" + value_text(run.swept()[knob]);
     row["series"] = (report.multi() ? run.variant + " " : std::string()) + run.method +
                     (others_text.empty() ? "" : " " + others_text);
+    // The seed band: the 95 % interval of the mean over the seeds (its low end kept above zero for the
+    // log axis: a band that reaches zero is drawn down to a hundredth of the mean).
+    if (const std::optional<MetricInterval> interval = run.interval(metric); interval && interval->count > 1) {
+      row["low"] = std::max(interval->low(), 0.01 * *error);
+      row["high"] = interval->high();
+      row["interval"] = "\u00b1 " + num(interval->half_width) + fmt::format(" over {} seeds", interval->count);
+      banded = true;
+    }
     ++points_per_series[row["series"].get<std::string>()];
     rows.push_back(row);
     xs.push_back(seconds);
@@ -145,7 +154,18 @@ void make_error_time_plot(Report& report) {
   json tip = tooltip(report);
   tip.push_back({{"field", "budget"}});
   tip.push_back({{"field", "seconds"}, {"title", "time to a first frame, s"}, {"format", ".4g"}});
+  if (banded) tip.push_back({{"field", "interval"}, {"title", "95 % interval"}});
   json layers = json::array();
+  if (banded) {
+    json low = y, high = {{"field", "high"}};
+    low["field"] = "low";
+    layers.push_back({{"data", {{"values", rows}}},
+                      {"transform", json::array({{{"filter", "isValid(datum.low)"}}})},
+                      {"mark", {{"type", "area"}, {"opacity", 0.2}}},
+                      {"encoding",
+                       {{"x", x}, {"y", low}, {"y2", high}, {"color", method_colour(report)},
+                        {"detail", {{"field", "series"}}}, {"order", {{"field", "seconds"}}}}}});
+  }
   layers.push_back({{"data", {{"values", rows}}},
                     {"mark", {{"type", "line"}, {"point", {{"filled", true}, {"size", 40}}}}},
                     {"encoding",
@@ -170,7 +190,8 @@ void make_error_time_plot(Report& report) {
        "Each method that buys accuracy with time (photons, samples, passes: the budget knob its declaration names) "
        "along its sweep of that knob: relMSE against its time to a first frame (precomputation plus the median "
        "frame), one line per method and setting of its other knobs. The dashed curve is the reference's estimate "
-       "of its own relMSE after each pass against its seconds: below it, a run's error is not resolved.",
+       "of its own relMSE after each pass against its seconds: below it, a run's error is not resolved." +
+           std::string(banded ? " Shaded: the 95 % interval of the mean over the seeds." : ""),
        spec});
 }
 

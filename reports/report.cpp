@@ -42,8 +42,9 @@ void copy_vendor(const fs::path& target) {
 
 }  // namespace
 
-ReportSummary write_report(const std::string& experiment_folder) {
+ReportSummary write_report(const std::string& experiment_folder, double viewer_megabytes) {
   Report report;
+  report.viewer_more_frames_bytes = std::max(0.0, viewer_megabytes) * 1e6;
   load_report(report, experiment_folder);
   score_variant_baselines(report);
   compute_fronts(report);

@@ -29,7 +29,10 @@ struct ReportSummary {
 // results.csv, results.json, viewer.html and the report/ folder (thumbnails, error maps, vendored Vega
 // bundles, the viewer's pixels under report/view/) into the experiment folder. Throws InputError when the folder is not an experiment results folder,
 // std::runtime_error when the vendored Vega bundles are missing from the source tree.
-ReportSummary write_report(const std::string& experiment_folder);
+// `viewer_megabytes`: what the viewer's pixel files of frames beyond each run's first may take (docs/reports.md,
+// "The viewer"): every k-th frame of every run, the least k that fits; 0 keeps the first frames only.
+inline constexpr double kDefaultViewerMegabytes = 100.0;
+ReportSummary write_report(const std::string& experiment_folder, double viewer_megabytes = kDefaultViewerMegabytes);
 
 // One run on the error-versus-time plane.
 struct TradeoffPoint {

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <map>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -176,6 +178,75 @@ void add_reference_to_viewer(ViewerData& viewer, const ReferenceFrame& reference
   viewer.index()["references"][id] = entry;
 }
 
+// A reference that can be compared with `image`: readable, not black, of its size.
+bool fits(const ReferenceFrame& reference, const Image& image) {
+  return reference.ok && reference.mean > 0.0 && reference.image.width() == image.width() &&
+         reference.image.height() == image.height();
+}
+
+// One frame of a run in the viewer: its E_c and, where there are any, its reference, FLIP map and spread
+// over seeds. Its pixels are named "<key>" for the run's first frame and "<key>@<frame>" for the others.
+json frame_view(ViewerData& viewer, const Report& report, const Run& run, size_t index, const Image& image,
+                const ReferenceFrame& reference, const Image& flip) {
+  const int64_t frame = run.record.frames.at(index).frame;
+  const std::string id = index == 0 ? run.key : run.key + "@" + std::to_string(frame);
+  const std::string stem = file_safe(run.key) + "_f" + std::to_string(frame);
+  json view = {{"frame", frame}, {"id", id}};
+  view["pixels"] = viewer.add_pixels(id, stem, image, 3);
+  // Measured with several seeds: the per-pixel standard deviation over them, its own pane.
+  if (run.record.seeds && index < run.record.seeds->stddev_images.size()) {
+    const Image spread = read_exr((report.folder / "runs" / run.key / run.record.seeds->stddev_images[index]).string());
+    view["stddev"] = viewer.add_pixels(id + "/stddev", stem + "_stddev", spread, 3);
+  }
+  if (fits(reference, image)) {
+    add_reference_to_viewer(viewer, reference, run.reference_key, frame, "reference");
+    view["reference"] = viewer_reference_id(run.reference_key, frame);
+    if (flip.pixel_count() > 0) view["flip"] = viewer.add_pixels(id + "/flip", stem + "_flip", flip, 1);
+  }
+  return view;
+}
+
+// Frames beyond each run's first (docs/reports.md, "The viewer"): every k-th of its frames, k the least
+// stride that keeps their estimated pixel files within Report::viewer_more_frames_bytes, the same frames for every
+// run so that runs compare frame by frame. `runs`: (run index, its place in the viewer's index).
+void add_more_frames(ViewerData& viewer, const Report& report, const std::vector<std::pair<size_t, size_t>>& runs,
+                     bool with_flip, const std::function<ReferenceFrame&(const std::string&, int64_t)>& reference_frame) {
+  double bytes = 0.0;
+  for (const auto& [i, place] : runs) {
+    const Run& run = report.runs[i];
+    const json& entry = viewer.index()["runs"][place];
+    // Base64 of half floats: 8/3 bytes a value; E_c, its reference and its spread 3 values a pixel, FLIP 1.
+    const double values = 3.0 + 3.0 + (with_flip ? 1.0 : 0.0) + (run.record.seeds ? 3.0 : 0.0);
+    bytes += static_cast<double>(run.record.frames.size() - 1) * entry["width"].get<double>() *
+             entry["height"].get<double>() * values * 8.0 / 3.0;
+  }
+  if (bytes <= 0.0) return;
+  const double budget = report.viewer_more_frames_bytes;
+  const size_t stride = budget <= 0.0 ? std::numeric_limits<size_t>::max()
+                                      : std::max<size_t>(1, static_cast<size_t>(std::ceil(bytes / budget)));
+  for (const auto& [i, place] : runs) {
+    const Run& run = report.runs[i];
+    json& entry = viewer.index()["runs"][place];
+    const size_t count = run.record.frames.size();
+    for (size_t index = stride; index < count && index >= stride; index += stride) {
+      const FrameRecord& recorded = run.record.frames[index];
+      const fs::path path = report.folder / "runs" / run.key / (recorded.image.empty() ? frame_file(recorded.frame) : recorded.image);
+      try {
+        const Image image = read_exr(path.string());
+        const ReferenceFrame& reference = reference_frame(run.reference_key, recorded.frame);
+        const Image flip = with_flip && fits(reference, image) ? flip_error_map(image, reference.image, reference.mask) : Image();
+        entry["frames"].push_back(frame_view(viewer, report, run, index, image, reference, flip));
+      } catch (const std::exception& failure) {
+        entry["frames_note"] = fmt::format("frame {} unreadable: {}", recorded.frame, failure.what());
+      }
+    }
+    if (stride > 1 && count > 1)
+      entry["frames_note"] = stride >= count ? fmt::format("the first of its {} frames (report --viewer-mb 0)", count)
+                                             : fmt::format("every {} frames of its {} (report --viewer-mb {:.0f}: what frames "
+                                                           "beyond the first may take)", stride, count, budget / 1e6);
+  }
+}
+
 }  // namespace
 
 void make_images(Report& report, std::set<std::string>& written) {
@@ -270,7 +341,8 @@ void make_images(Report& report, std::set<std::string>& written) {
         fmt::format("{} \u00d7 the mean of the run's own reference ({})", num(kErrorScale), join(scales, ", "));
   }
 
-  // Runs grouped by method, in their order.
+  // Runs grouped by method, in their order; each one in the viewer, with its place in the index.
+  std::vector<std::pair<size_t, size_t>> viewer_runs;
   for (const std::string& method : report.methods) {
     for (size_t i : report.ok_runs()) {
       const Run& run = report.runs[i];
@@ -302,27 +374,30 @@ void make_images(Report& report, std::set<std::string>& written) {
         json entry = {{"id", run.key}, {"title", thumb.title}, {"caption", thumb.caption}, {"method", run.method},
                       {"variant", run.variant}, {"frame", frame}, {"width", image.width()}, {"height", image.height()},
                       {"exposure_stops", std::log2(static_cast<double>(exposure))}};
-        entry["pixels"] = viewer.add_pixels(run.key, stem + "_f" + std::to_string(frame), image, 3);
+        Image flip;
         if (reference.ok && reference.mean > 0.0) {
-          if (reference.image.width() == image.width() && reference.image.height() == image.height()) {
+          if (fits(reference, image)) {
             thumb.error_png = stem + "_error.png";
             write_error_map(image, reference.image, kErrorScale * reference.mean, images / thumb.error_png);
             written.insert(thumb.error_png);
-            add_reference_to_viewer(viewer, reference, run.reference_key, frame, "reference");
-            entry["reference"] = viewer_reference_id(run.reference_key, frame);
-            Image flip = with_flip ? flip_error_map(image, reference.image, reference.mask) : Image();
+            if (with_flip) flip = flip_error_map(image, reference.image, reference.mask);
             if (flip.pixel_count() > 0) {
               thumb.flip_png = stem + "_flip.png";
               write_flip_map(flip, images / thumb.flip_png);
               written.insert(thumb.flip_png);
               report.has_flip_maps = true;
-              entry["flip"] = viewer.add_pixels(run.key + "/flip", stem + "_f" + std::to_string(frame) + "_flip", flip, 1);
             }
           } else {
             thumb.note = fmt::format("{}x{} but the reference is {}x{}: no error map", image.width(), image.height(),
                                      reference.image.width(), reference.image.height());
           }
         }
+        // Its first frame in the viewer; the top-level fields are that frame's (as an index before frames).
+        const json view = frame_view(viewer, report, run, 0, image, reference, flip);
+        entry.update(view);
+        entry["frames"] = json::array({view});
+        if (run.record.seeds) entry["seeds"] = run.record.seed_count();
+        viewer_runs.push_back({i, viewer.index()["runs"].size()});
         viewer.index()["runs"].push_back(entry);
         thumb.viewer_id = run.key;
       } catch (const std::exception& failure) {
@@ -339,6 +414,7 @@ void make_images(Report& report, std::set<std::string>& written) {
     write_colour_bar(images / "flip_colour_bar.png", cv::COLORMAP_MAGMA);
     written.insert("flip_colour_bar.png");
   }
+  add_more_frames(viewer, report, viewer_runs, with_flip, reference_frame);
   report.viewer_bytes = viewer.finish();
   if (!viewer.index()["runs"].empty()) {
     report.viewer = viewer.index();

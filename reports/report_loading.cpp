@@ -220,6 +220,10 @@ void load_report(Report& report, const std::string& folder_text) {
   }
 
   read_comparisons(report);
+  // Several seeds asked for (an older experiment.json has no "seeds"), or some record measured with several.
+  const json& seeds = member(report.experiment, "seeds");
+  report.seeds = seeds.is_number_integer() ? std::max(1, seeds.get<int>()) : 1;
+  for (const Run& run : report.runs) report.seeds = std::max(report.seeds, run.record.seed_count());
 
   // The scene variants: experiment.json's list; without one, a single "default" variant with the
   // top-level reference_key.

@@ -25,6 +25,7 @@
 #include "store/result_paths.h"
 #include "store/run_record.h"
 #include "metrics/baselines.h"
+#include "metrics/confidence.h"
 #include "metrics/metrics.h"
 #include "reports/cost_views.h"
 #include "methods/quantity_registry.h"
@@ -76,6 +77,12 @@ struct Run {
     }
     auto found = record.metrics_undefined.find(name);
     return found == record.metrics_undefined.end() ? "" : found->second;
+  }
+  // The 95 % interval of a metric's value (store/run_record.h): over the run's seeds, zero width when it
+  // is deterministic, none for a stochastic run measured once or a metric without a value.
+  std::optional<MetricInterval> interval(const std::string& name) const {
+    if (!metric(name)) return std::nullopt;
+    return record.interval(name);
   }
   // Any registered quantity (methods/quantity_registry.h); a metric through metric() above.
   std::optional<double> quantity(const std::string& name) const {
@@ -175,6 +182,8 @@ struct ClaimResult {
                                            // ratio: the one run on each side
   // better, same: every (run, than) pair, and how many of them hold (beat / lie within the tolerance).
   size_t pairs = 0, pairs_holding = 0;
+  // better, best: the pairs whose 95 % intervals overlap (several seeds): not separated.
+  size_t pairs_not_separated = 0;
   // same: the tolerances (absolute, relative to the larger magnitude of the pair; 0 when not given).
   double absolute_tolerance = 0.0, relative_tolerance = 0.0;
   // linear
@@ -192,6 +201,7 @@ struct Report {
   std::string name, primary;
   std::vector<std::string> metrics;  // metric columns of the tables
   std::vector<Run> runs;             // records found, in the experiment's order
+  int seeds = 1;                     // experiment.json "seeds": intervals are shown when above 1
   std::vector<std::string> missing;  // run keys without a record.json
   std::vector<std::string> methods;  // in order of first appearance
   std::vector<Variant> variants;     // never empty; experiment.json's order, then any only runs name
@@ -213,6 +223,7 @@ struct Report {
   // The viewer's index (reports/viewer_data.h): its runs and references; empty when no run has an image.
   json viewer = json::object();
   size_t viewer_bytes = 0;  // the bytes of its pixel files (report/view/)
+  double viewer_more_frames_bytes = 100e6;  // what frames beyond each run's first may add (write_report)
   std::vector<Plot> plots;
   std::vector<ClaimResult> claims;
 
@@ -258,6 +269,13 @@ struct Report {
     return r.label + " @" + r.variant;
   }
 };
+
+// Whether two runs' values of a metric are told apart at 95 %: their intervals do not overlap. Without an
+// interval on either side (a stochastic run measured once) nothing says otherwise: separated.
+inline bool separated(const Run& a, const Run& b, const std::string& metric) {
+  const std::optional<MetricInterval> first = a.interval(metric), second = b.interval(metric);
+  return !first || !second || !intervals_overlap(*first, *second);
+}
 
 // The run's resolved knobs as record_matches_filter sees them, with the variant the report assigned
 // (an older record names none).

@@ -32,7 +32,11 @@ std::string winner_text(const StudySummary& summary, const BudgetWinner& winner)
     return fmt::format("no winner: the best, {}, is not {:.0f} % better than a black image ({} {})",
                        point_text(summary, scene, *winner.point), 100.0 * kBaselineMargin,
                        summary.report(scene).primary, num(*winner.black));
-  if (winner.point) return point_text(summary, scene, *winner.point);
+  if (winner.point)
+    return point_text(summary, scene, *winner.point) +
+           (winner.not_separated.empty()
+                ? ""
+                : "; not separated from " + join(winner.not_separated, ", ") + " (95 % intervals overlap)");
   if (winner.fastest) {
     const CostPoint& fastest = summary.views(scene).points[*winner.fastest];
     return fmt::format("none reached (fastest: {} {} ms)", fastest.method, num(fastest.frame_ms));

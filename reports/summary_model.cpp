@@ -181,6 +181,11 @@ StudySummary summarize_study(const std::vector<std::string>& folders) {
       winner.black = report.variants[scene.variant].black(report.primary);
       if (winner.point && winner.black)
         winner.beats_black = beats_black_by_margin(report.primary, views.points[*winner.point].error, *winner.black);
+      if (winner.point)
+        for (const BudgetAnswer& answer : row.methods)
+          if (answer.best && *answer.best != *winner.point &&
+              !separated(report.runs[views.runs[*answer.best]], report.runs[views.runs[*winner.point]], report.primary))
+            winner.not_separated.push_back(answer.method);
       summary.winners.push_back(winner);
     }
   }

@@ -32,6 +32,9 @@ struct BudgetWinner {
   // The best run beats the black image by at least kBaselineMargin (or no black score is known): only
   // then does its method "win" the budget.
   bool beats_black = true;
+  // With several seeds: the other methods whose best in the budget is not told apart from the winner's
+  // (their 95 % intervals overlap).
+  std::vector<std::string> not_separated;
 };
 
 // How much better than a black image a budget's best run must be on the primary metric to win it: a

@@ -14,9 +14,14 @@ namespace causticbench::report_detail {
 namespace {
 
 // The cell of a metric value: the number, or no value with the reason it is undefined.
-Cell metric_cell(const Run& run, const std::string& metric) {
+// In an experiment with several seeds, the mean and its 95 % half-width (a deterministic run's is 0).
+Cell metric_cell(const Run& run, const std::string& metric, bool seeded = false) {
   auto value = run.metric(metric);
-  if (value) return {num(*value), false, true};
+  if (value) {
+    const std::optional<MetricInterval> interval = run.interval(metric);
+    if (seeded && interval) return {num(*value) + " \u00b1 " + num(interval->half_width), false, true};
+    return {num(*value), false, true};
+  }
   std::string why = run.undefined_reason(metric);
   return {why.empty() ? "\u2014" : "", false, true, false, why};
 }
@@ -89,14 +94,19 @@ Table results_table(const Report& report) {
     for (size_t i : report.ok_runs())
       if (report.runs[i].method == method) rows.push_back(i);
 
-  // The best value of each metric column (ties all marked), and the fastest frame, within each variant.
+  // The best value of each metric column (ties all marked), and the fastest frame, within each variant;
+  // with intervals, the run that holds the best value, which the others are told apart from.
   std::vector<std::map<std::string, double>> bests(report.variants.size());
+  std::vector<std::map<std::string, size_t>> best_runs(report.variants.size());
   for (const std::string& metric : report.metrics) {
     for (size_t i : rows) {
       auto value = report.runs[i].metric(metric);
       if (!finite(value)) continue;
       std::map<std::string, double>& best = bests[report.runs[i].variant_index];
-      if (!best.count(metric) || quantity_better(metric, *value, best[metric])) best[metric] = *value;
+      if (!best.count(metric) || quantity_better(metric, *value, best[metric])) {
+        best[metric] = *value;
+        best_runs[report.runs[i].variant_index][metric] = i;
+      }
     }
   }
   std::vector<std::optional<double>> fastests(report.variants.size());
@@ -129,8 +139,12 @@ Table results_table(const Report& report) {
     }
     for (const std::string& metric : report.metrics) {
       auto value = run.metric(metric);
-      Cell cell = metric_cell(run, metric);
+      Cell cell = metric_cell(run, metric, report.seeds > 1);
       if (finite(value) && best.count(metric) && !quantity_better(metric, best[metric], *value)) cell.best = true;
+      // Not the best mean, but its interval overlaps the best run's: not separated from it.
+      if (finite(value) && !cell.best && best.count(metric) &&
+          !separated(run, report.runs[best_runs[run.variant_index][metric]], metric))
+        cell.text += " \u2248";
       if (metric == "nonfinite_pixels" && value && *value > 0) cell.warn = true;
       if (metric == report.primary && black_is_as_good) cell.warn = true;
       row.push_back(cell);

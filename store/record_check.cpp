@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <initializer_list>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -104,6 +105,19 @@ std::string run_record_problem(const nlohmann::json& record, const std::string& 
   for (const FrameRecord& frame : parsed.frames) {
     std::string problem = image_problem(record, run_folder, frame.image);
     if (!problem.empty()) return problem;
+  }
+  if (parsed.seeds) {
+    // Every seed's images and the standard-deviation images: each one the store wrote with its checksum.
+    std::vector<std::string> images = parsed.seeds->stddev_images;
+    for (const SeedRun& seed : parsed.seeds->runs) {
+      if (seed.frames.size() != parsed.frames.size())
+        return fmt::format("seed {} has {} frames, the run {}", seed.seed, seed.frames.size(), parsed.frames.size());
+      for (const FrameRecord& frame : seed.frames) images.push_back(frame.image);
+    }
+    for (const std::string& image : images) {
+      std::string problem = image_problem(record, run_folder, image);
+      if (!problem.empty()) return problem;
+    }
   }
   return "";
 }

@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include "store/reference_cache.h"
+#include "store/run_record.h"
 
 namespace causticbench {
+
 
 ResultStore::ResultStore(ResultPaths paths, std::string experiment, std::vector<int> frames)
     : paths_(std::move(paths)), experiment_(std::move(experiment)), frames_(std::move(frames)) {}
@@ -65,6 +67,14 @@ RunState ResultStore::look_up(const RunAddress& run, bool warn) {
       fmt::print(stderr, "warning: run {} ({}) was measured against reference {}, but its variant's reference is now {} "
                  "(the reference settings or the scene changed); measuring the run again\n",
                  run.label, run.key, state.record.value("reference_key", ""), run.reference_key);
+  } else if (stored_with_fewer_seeds(state.record, run.seeds)) {
+    const int stored_seeds = stored_seed_count(state.record);
+    // The key is the same whatever `seeds` says: a record of fewer seeds is measured again with all of them.
+    state.kind = RunState::Kind::fewer_seeds;
+    if (warn)
+      fmt::print(stderr, "warning: run {} ({}) was measured with {} seed{}, the experiment asks for {}; measuring the run "
+                 "again\n",
+                 run.label, run.key, stored_seeds, stored_seeds == 1 ? "" : "s", run.seeds);
   } else {
     state.kind = RunState::Kind::current;
   }

@@ -25,6 +25,7 @@ struct RunAddress {
   std::string key, label;
   std::string reference_key;  // the variant's current reference
   std::string content_hash;   // the variant's scene content now (a mesh edited in place changes it)
+  int seeds = 1;              // the seeds it is to be measured with (experiments/seed_replicas.h)
 };
 
 struct RunState {
@@ -35,6 +36,7 @@ struct RunState {
     other_copy,     // measured against another copy of its reference than the stored one
     other_content,  // its reference was computed for other scene content
     stale,          // measured against another reference than its variant's now
+    fewer_seeds,    // measured with fewer seeds than the experiment asks for now
   };
   Kind kind = Kind::absent;
   std::string problem;      // damaged: "<folder>/record.json: <what is wrong>"

@@ -116,6 +116,60 @@ json frame_json(const FrameRecord& frame) {
   return out;
 }
 
+SeedsRecord read_seeds(const json& stored) {
+  FieldReader in(stored, "seeds");
+  SeedsRecord seeds;
+  const json& runs = in.array("runs");
+  if (runs.empty()) throw RecordError("seeds: field 'runs' is empty");
+  for (size_t r = 0; r < runs.size(); ++r) {
+    FieldReader run(runs[r], fmt::format("seeds.runs[{}]", r));
+    SeedRun one;
+    one.seed = run.integer("seed");
+    const json& frames = run.array("frames");
+    for (size_t f = 0; f < frames.size(); ++f) one.frames.push_back(read_frame(frames[f], f));
+    one.metrics = run.number_map("metrics");
+    one.metrics_undefined = run.text_map("metrics_undefined");
+    seeds.runs.push_back(std::move(one));
+  }
+  if (in.has("intervals")) {
+    for (const auto& [name, value] : in.object("intervals").items()) {
+      FieldReader interval(value, "seeds.intervals." + name);
+      seeds.intervals[name] = MetricInterval{interval.number("mean"), interval.number("half_width"),
+                                             interval.number("standard_deviation"),
+                                             static_cast<int>(interval.integer("count"))};
+    }
+  }
+  if (in.has("stddev_images")) {
+    for (const json& image : in.array("stddev_images")) {
+      if (!image.is_string()) throw RecordError("seeds: field 'stddev_images' holds a non-string");
+      seeds.stddev_images.push_back(image.get<std::string>());
+    }
+  }
+  return seeds;
+}
+
+json seeds_json(const SeedsRecord& seeds) {
+  json runs = json::array();
+  for (const SeedRun& run : seeds.runs) {
+    json frames = json::array();
+    for (const FrameRecord& frame : run.frames) frames.push_back(frame_json(frame));
+    json one = {{"seed", run.seed}, {"frames", frames}, {"metrics", run.metrics}};
+    if (!run.metrics_undefined.empty()) one["metrics_undefined"] = run.metrics_undefined;
+    runs.push_back(one);
+  }
+  json intervals = json::object();
+  for (const auto& [name, interval] : seeds.intervals)
+    intervals[name] = {{"mean", interval.mean},
+                       {"half_width", interval.half_width},
+                       {"standard_deviation", interval.standard_deviation},
+                       {"count", interval.count}};
+  return {{"count", seeds.runs.size()},
+          {"confidence", kIntervalConfidence},
+          {"runs", runs},
+          {"intervals", intervals},
+          {"stddev_images", seeds.stddev_images}};
+}
+
 }  // namespace
 
 std::optional<LostFluxRecord> lost_flux_record(const std::vector<std::optional<LostFlux>>& frames) {
@@ -139,6 +193,20 @@ std::optional<double> RunTimings::field(const std::string& name) const {
   if (name == "gpu_render_ms_min") return gpu_render_ms_min;
   if (name == "gpu_render_ms_median") return gpu_render_ms_median;
   return std::nullopt;
+}
+
+int stored_seed_count(const json& stored) {
+  if (!stored.is_object() || stored.value("status", "") != "ok") return std::numeric_limits<int>::max();
+  if (!stored.contains("seeds") || !stored["seeds"].is_object()) return 1;
+  const json& runs = stored["seeds"].value("runs", json::array());
+  return runs.is_array() ? static_cast<int>(runs.size()) : 1;
+}
+
+bool stored_with_fewer_seeds(const json& stored, int seeds) {
+  if (seeds <= 1 || stored_seed_count(stored) >= seeds) return false;
+  for (const char* phase : {"build", "frame", "render"})
+    if (stored.contains(phase) && stored[phase].is_object() && stored[phase].contains("seed")) return true;
+  return false;
 }
 
 int stored_record_version(const json& stored) {
@@ -244,6 +312,7 @@ RunRecord RunRecord::from_json(const json& original) {
     record.reference_converged = converged.get<bool>();
   }
   record.reference_unconverged = in.string_or("reference_unconverged", "");
+  if (in.has("seeds")) record.seeds = read_seeds(in.at("seeds"));
   return record;
 }
 
@@ -298,6 +367,7 @@ json RunRecord::to_json() const {
   if (!reference_images.is_null()) out["reference_images"] = reference_images;
   if (reference_converged) out["reference_converged"] = *reference_converged;
   if (!reference_unconverged.empty()) out["reference_unconverged"] = reference_unconverged;
+  if (seeds) out["seeds"] = seeds_json(*seeds);
   return out;
 }
 
@@ -306,6 +376,18 @@ std::optional<double> RunRecord::metric(const std::string& name) const {
   auto found = metrics.find(name);
   if (found == metrics.end() || std::isnan(found->second)) return std::nullopt;
   return found->second;
+}
+
+std::optional<MetricInterval> RunRecord::interval(const std::string& name) const {
+  const std::optional<double> value = metric(name);
+  if (!value) return std::nullopt;
+  if (seeds) {
+    auto found = seeds->intervals.find(name);
+    if (found == seeds->intervals.end()) return std::nullopt;
+    return found->second;
+  }
+  if (stochastic()) return std::nullopt;
+  return MetricInterval{*value, 0.0, 0.0, 1};
 }
 
 std::optional<double> RunRecord::quantity(const std::string& name) const {

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "methods/method.h"
+#include "metrics/confidence.h"
 
 namespace causticbench {
 
@@ -66,6 +67,24 @@ struct LostFluxRecord {
 // reported one.
 std::optional<LostFluxRecord> lost_flux_record(const std::vector<std::optional<LostFlux>>& frames);
 
+// One seed's measurement of a run measured with several seeds (an experiment's `seeds`): its frames
+// (images, timings, metrics) and its metrics over them, as a run measured once holds them.
+struct SeedRun {
+  int64_t seed = 0;
+  std::vector<FrameRecord> frames;
+  std::map<std::string, double> metrics;
+  std::map<std::string, std::string> metrics_undefined;
+};
+
+// Record "seeds" (docs/results-format.md): the seeds a stochastic run was measured with, the first its
+// own (its knobs' seed; its images are the run's frames), and what they give together. The run's
+// metrics and its frames' metrics are the means over the seeds (experiments/seed_replicas.h).
+struct SeedsRecord {
+  std::vector<SeedRun> runs;
+  std::map<std::string, MetricInterval> intervals;  // every run metric defined on every seed
+  std::vector<std::string> stddev_images;           // per frame (the record's order): per-pixel standard deviation
+};
+
 struct RunRecord {
   int record_version = kRunRecordVersion;
   std::string key, status = "ok", error, method, label;
@@ -95,10 +114,18 @@ struct RunRecord {
   nlohmann::json reference_images;  // the reference images it was measured against
   std::optional<bool> reference_converged;  // empty: written before the flag (taken as converged)
   std::string reference_unconverged;        // why not, when false
+  std::optional<SeedsRecord> seeds;         // measured with several seeds (an experiment's `seeds`)
 
   bool ok() const { return status == "ok"; }
   // A metric's value: none when absent, NaN (a null in the file) or undefined.
   std::optional<double> metric(const std::string& name) const;
+  // Whether its output depends on a seed: its resolved knobs have one.
+  bool stochastic() const { return knobs().contains("seed"); }
+  // How many seeds it was measured with (1 without a "seeds" block).
+  int seed_count() const { return seeds ? static_cast<int>(seeds->runs.size()) : 1; }
+  // The 95 % interval of a metric: over its seeds when it has several; zero width (count 1) when the run
+  // is deterministic; none for a stochastic run measured once, or a metric without a value.
+  std::optional<MetricInterval> interval(const std::string& name) const;
   // Any quantity of the registry (methods/quantity_registry.h) by name: metric, timing, size or
   // counter; none when the record has no finite value of it.
   std::optional<double> quantity(const std::string& name) const;
@@ -116,6 +143,12 @@ struct RunRecord {
 // gets record_version 2, an empty git_revision and null reference_settings: "unknown"). The current
 // version is returned as it is; a newer one throws RecordError.
 nlohmann::json upgrade_run_record(nlohmann::json stored);
+
+// How many seeds a stored ok record was measured with (its "seeds" runs, else 1), read without parsing the
+// whole record; a failed record counts as measured with any number (it is not run again for its seeds).
+// Whether `seeds` asked of a run is more than it holds: a stochastic run (its knobs have a seed) of fewer.
+int stored_seed_count(const nlohmann::json& stored);
+bool stored_with_fewer_seeds(const nlohmann::json& stored, int seeds);
 
 // The record's version as stored (1 when it has no "record_version").
 int stored_record_version(const nlohmann::json& stored);

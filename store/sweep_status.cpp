@@ -11,6 +11,7 @@
 #include "core/errors.h"
 #include "store/result_paths.h"
 #include "store/run_folders.h"
+#include "store/run_record.h"
 #include "store/shard_plan_file.h"
 #include "store/store_files.h"
 
@@ -38,6 +39,14 @@ std::map<std::string, std::string> current_reference_keys(const std::string& fol
       keys[variant["name"].get<std::string>()] = variant["reference_key"].get<std::string>();
   }
   return keys;
+}
+
+// The seeds experiment.json asks for (1 when it says nothing).
+int asked_seed_count(const std::string& folder) {
+  std::optional<std::string> text = read_file_bytes((fs::path(folder) / "experiment.json").string());
+  if (!text) return 1;
+  const nlohmann::json json = nlohmann::json::parse(*text, nullptr, false);
+  return json.is_object() && json.value("seeds", nlohmann::json()).is_number_integer() ? json["seeds"].get<int>() : 1;
 }
 
 // From experiment.json: the run keys; their methods from the experiment file when it still expands to them.
@@ -98,6 +107,7 @@ SweepStatus sweep_status(const std::string& folder, const ExperimentFileRuns& ex
     }
   }
   const std::map<std::string, std::string> reference_keys = current_reference_keys(folder);
+  const int asked_seeds = asked_seed_count(folder);
   for (const ListedRun& run : runs) {
     StoredRun stored = inspect_stored_run((fs::path(folder) / "runs" / run.key).string());
     if (stored.state == StoredRun::State::stored) {
@@ -105,6 +115,8 @@ SweepStatus sweep_status(const std::string& folder, const ExperimentFileRuns& ex
       auto current = reference_keys.find(stored.record.value("variant", std::string("default")));
       if (current != reference_keys.end() && measured_against_other_reference(stored.record, current->second))
         stored.state = StoredRun::State::absent;
+      // So is one measured with fewer seeds than the experiment asks for now.
+      if (stored_with_fewer_seeds(stored.record, asked_seeds)) stored.state = StoredRun::State::absent;
     }
     std::string method = run.method;
     if (stored.state == StoredRun::State::stored) method = stored.record.value("method", method);

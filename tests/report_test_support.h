@@ -93,6 +93,15 @@ inline std::string chromium_dom(const std::string& html) {
   return dom;
 }
 
+// The spec of one plot of report.html, as the page's script gets it; null when the page has no such plot.
+inline json plot_spec(const std::string& page, const std::string& id) {
+  size_t at = page.find("[\"" + id + "\", ");
+  if (at == std::string::npos) return nullptr;
+  std::string line = page.substr(at, page.find('\n', at) - at);
+  if (!line.empty() && line.back() == ',') line.pop_back();
+  return json::parse(line)[1];
+}
+
 // A caustic-like blob on a dark receiver; `noise` adds a deterministic per-pixel error.
 // 384 x 288, so that thumbnails are shrunk to 256 x 192.
 inline Image blob(double noise, int width = 384, int height = 288) {

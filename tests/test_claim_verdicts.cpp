@@ -134,8 +134,16 @@ TEST(ClaimVerdicts, CountsFromThePairsOrGroupsThatHold) {
   EXPECT_EQ(verdict_of_count(0, 3), Verdict::refuted);
   std::vector<std::string> names;
   for (Verdict verdict : kVerdicts) names.push_back(verdict_name(verdict));
-  EXPECT_EQ(names, (std::vector<std::string>{"confirmed", "partly", "refuted", "not measured"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"confirmed", "partly", "refuted", "not separated", "not measured"}));
   EXPECT_STREQ(verdict_badge(Verdict::not_measured), "unmeasured");
+  EXPECT_STREQ(verdict_badge(Verdict::not_separated), "unseparated");
+  // With intervals: separated pairs decide; none separated at all is a verdict of its own.
+  EXPECT_EQ(verdict_of_separated_count(0, 0, 0), Verdict::not_measured);
+  EXPECT_EQ(verdict_of_separated_count(3, 0, 3), Verdict::confirmed);
+  EXPECT_EQ(verdict_of_separated_count(1, 0, 3), Verdict::partly);
+  EXPECT_EQ(verdict_of_separated_count(1, 1, 3), Verdict::partly);
+  EXPECT_EQ(verdict_of_separated_count(0, 1, 3), Verdict::refuted);
+  EXPECT_EQ(verdict_of_separated_count(0, 0, 3), Verdict::not_separated);
 
   ClaimCounts counts;
   EXPECT_EQ(counts.breakdown(), "0 confirmed, 0 partly, 0 refuted, 0 not measured");
@@ -144,6 +152,11 @@ TEST(ClaimVerdicts, CountsFromThePairsOrGroupsThatHold) {
   counts.add(Verdict::partly);
   counts.add(Verdict::refuted);
   EXPECT_EQ(counts.sentence(), "1 of 3 claims confirmed (1 partly, 1 refuted).");
+  // "not separated" only where some claim has it.
+  EXPECT_EQ(counts.breakdown(), "1 confirmed, 1 partly, 1 refuted, 0 not measured");
+  counts.add(Verdict::not_separated);
+  EXPECT_EQ(counts.breakdown(), "1 confirmed, 1 partly, 1 refuted, 1 not separated, 0 not measured");
+  EXPECT_EQ(counts.sentence(), "1 of 4 claims confirmed (1 partly, 1 refuted, 1 not separated).");
 }
 
 }  // namespace

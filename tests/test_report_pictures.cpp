@@ -63,15 +63,6 @@ TEST_F(ReportTest, FlipMapsBesideTheErrorMapsWhenFlipIsMeasured) {
   EXPECT_NE(md.find("![FLIP](report/pm_1e4_flip.png)"), std::string::npos);
 }
 
-// The spec of one plot of report.html, as the page's script gets it.
-json plot_spec(const std::string& page, const std::string& id) {
-  size_t at = page.find("[\"" + id + "\", ");
-  if (at == std::string::npos) return nullptr;
-  std::string line = page.substr(at, page.find('\n', at) - at);
-  if (!line.empty() && line.back() == ',') line.pop_back();
-  return json::parse(line)[1];
-}
-
 // The runner stores swept values as text ("400"); the sweep plot must still order them as numbers (400
 // after 100, not as text), and runs that differ in a fixed knob (pinhole filtering) are separate lines.
 TEST_F(ReportTest, SweepPlotsAreNumericAndSplitByEveryDifferingKnob) {

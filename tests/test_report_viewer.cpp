@@ -172,6 +172,9 @@ TEST_F(ViewerTest, AScriptedUserZoomsReadsAPixelAndFlipsInChromium) {
   const Image flip = flip_error_map(image, reference, std::vector<uint8_t>(reference.pixel_count(), 1));
   expect_half_of(log.at("flip_value").get<float>(), flip.at(pixel, 0), "FLIP under the cursor");
   EXPECT_EQ(log.at("error_label"), "HDR-FLIP map");
+  // Measured once: no spread over seeds, and its pane stays hidden (a report written before seeds opens so).
+  EXPECT_TRUE(log.at("spread_value").is_null());
+  EXPECT_FALSE(log.at("spread_visible").get<bool>());
   if (std::getenv("CAUSTICBENCH_KEEP_REPORT")) {
     const std::string shot = (root / "viewer.png").string();
     std::string output;
