@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -175,6 +176,24 @@ TEST_F(ViewerTest, AScriptedUserZoomsReadsAPixelAndFlipsInChromium) {
   // Measured once: no spread over seeds, and its pane stays hidden (a report written before seeds opens so).
   EXPECT_TRUE(log.at("spread_value").is_null());
   EXPECT_FALSE(log.at("spread_visible").get<bool>());
+  // An index written before frames and seeds (each run's first frame on the run itself) still works.
+  {
+    std::string page = read_text(summary.viewer);
+    json old_index = viewer_index(summary.viewer);
+    for (json& run : old_index["runs"]) run.erase("frames");
+    const std::string marker = "const INDEX = ";
+    const size_t begin = page.find(marker) + marker.size(), end = page.find(";\nconst errors", begin);
+    page = page.substr(0, begin) + old_index.dump() + page.substr(end);
+    const fs::path older = fs::path(summary.viewer).parent_path() / "viewer_before_frames.html";
+    std::ofstream(older, std::ios::binary) << page;
+    const std::string old_dom = chromium_dom(older.string() + "#run=pm_1e5&selftest=" + std::to_string(x) + "," + std::to_string(y));
+    const size_t at = old_dom.find("<pre id=\"selftest\">"), stop = old_dom.find("</pre>", at);
+    ASSERT_NE(at, std::string::npos) << "the scripted session did not finish on the older index";
+    const json old_log = json::parse(old_dom.substr(at + 19, stop - at - 19));
+    EXPECT_TRUE(old_log.at("errors").empty()) << old_log.at("errors").dump();
+    for (int c = 0; c < 3; ++c) expect_half_of(old_log.at("run_value")[c].get<float>(), image.at(pixel, c), "older index");
+    expect_half_of(old_log.at("flip_value").get<float>(), flip.at(pixel, 0), "older index, FLIP");
+  }
   if (std::getenv("CAUSTICBENCH_KEEP_REPORT")) {
     const std::string shot = (root / "viewer.png").string();
     std::string output;
