@@ -4,6 +4,7 @@
 #include "core/scene.h"
 #include "experiments/experiment.h"
 #include "methods/describe.h"
+#include "methods/plugins.h"
 #include "methods/registry.h"
 
 namespace causticbench {
@@ -15,7 +16,10 @@ int run_list() {
   fmt::print("Methods ({}):\n", registry.size());
   for (const MethodEntry& method : registry) {
     const MethodInfo& info = method.info();
-    fmt::print("  {:<12} {}\n", info.name, info.summary);
+    fmt::print("  {:<12} {}{}\n", info.name, info.summary,
+               method.plugin ? fmt::format(" [plugin {} {}, {}]", method.plugin->name, method.plugin->version,
+                                           method.plugin->path)
+                             : "");
   }
   fmt::print("\nCapabilities (yes / no):\n  {:<26}", "");
   for (const MethodEntry& method : registry) fmt::print(" {:>11}", method.info().name);
@@ -37,6 +41,8 @@ int run_describe(const std::string& name, bool markdown, bool quick_knobs) {
     return 0;
   }
   fmt::print("{}", markdown ? describe_markdown(info) : describe_text(info));
+  if (const PluginIdentity* plugin = find_method(name).plugin; plugin && !markdown)
+    fmt::print("\nFrom plugin {} {} ({}, xxhash {}).\n", plugin->name, plugin->version, plugin->path, plugin->hash);
   return 0;
 }
 

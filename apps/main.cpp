@@ -6,6 +6,7 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/progress.h"
+#include "methods/plugins.h"
 #include "methods/registry.h"
 
 namespace {
@@ -25,6 +26,14 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   bool quiet = false;
   app.add_flag("-q,--quiet", quiet, "no progress lines");
+  std::vector<std::string> plugin_paths;
+  app.add_option("--plugin", plugin_paths,
+                 "load the methods of a plugin, a shared library built against the causticbench SDK (docs/sdk.md);\n"
+                 "repeatable, before or after the subcommand; also CAUSTICBENCH_PLUGINS=PATH:PATH and an experiment's\n"
+                 "plugins: list")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  // Options of the main command (--plugin, --quiet) may follow the subcommand's.
+  app.fallthrough();
 
   RenderOptions render;
   CLI::App* render_command = app.add_subcommand(
@@ -163,6 +172,9 @@ int main(int argc, char** argv) {
   }
   Progress::set_quiet(quiet);
   try {
+    // Every refusal (another SDK version, a name clash, a registration that throws) exits 2 before any work.
+    load_plugins_from_environment();
+    for (const std::string& path : plugin_paths) load_plugin(path);
     if (*render_command) return run_render(render);
     if (*run_command) return run_experiment_command(experiment);
     if (*report_command) return run_report(report_folder, recompute_metrics, viewer_megabytes);

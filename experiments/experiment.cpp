@@ -15,6 +15,7 @@
 #include "experiments/method_entries.h"
 #include "store/result_paths.h"
 #include "methods/lifecycle.h"
+#include "methods/plugins.h"
 #include "metrics/metrics.h"
 
 namespace causticbench {
@@ -331,8 +332,31 @@ nlohmann::json Experiment::to_json() const {
           {"empty_reference_expected", empty_reference_expected}};
   // Only where declared, so that every other experiment.json stays as it was.
   if (!report.capability_matrix.is_null()) out["capability_matrix"] = report.capability_matrix;
+  if (!plugins.empty()) out["plugins"] = plugins;
   return out;
 }
+
+namespace {
+
+// `plugins:`: shared libraries whose methods the entries may name, each path relative to the file.
+void read_plugins(const ConfigNode& root, Experiment& experiment) {
+  std::optional<ConfigNode> list = root.optional_child("plugins");
+  if (!list) return;
+  if (!list->is_sequence()) list->fail_here("a list of plugin paths (shared libraries, relative to this file)", list->describe_value());
+  for (size_t i = 0; i < list->size(); ++i) {
+    const ConfigNode entry = list->at(i);
+    if (!entry.is_scalar()) entry.fail_here("a plugin path", entry.describe_value());
+    fs::path path = entry.as_string();
+    if (path.is_relative()) path = fs::path(experiment.source).parent_path() / path;
+    try {
+      experiment.plugins.push_back(load_plugin(path.string()).to_json());
+    } catch (const InputError& failure) {
+      throw InputError(fmt::format("{}: key '{}': {}", entry.location().describe(), entry.path(), failure.what()));
+    }
+  }
+}
+
+}  // namespace
 
 Experiment load_experiment(const std::string& path) {
   ConfigNode root = ConfigNode::load_file(path);
@@ -371,6 +395,7 @@ Experiment load_experiment(const std::string& path) {
 
   read_metrics(root, experiment);
   read_reference(root, experiment);
+  read_plugins(root, experiment);
 
   // Counted before anything is expanded: a run costs a few kilobytes to resolve and hash, so a
   // mistaken sweep product (10^6, 10^9 runs) must be refused with its count, not exhaust memory.

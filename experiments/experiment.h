@@ -78,6 +78,9 @@ struct Experiment {
   // are stored and reported as "empty reference", not scored. It changes how runs are judged, not what
   // they compute, so it is no part of any run key.
   bool empty_reference_expected = false;
+  // `plugins:` (paths relative to the file): loaded before the methods are read (methods/plugins.h); each
+  // as PluginIdentity::to_json, in experiment.json only when there are any.
+  std::vector<nlohmann::json> plugins;
 
   nlohmann::json to_json() const;
   std::vector<std::string> variant_names() const;

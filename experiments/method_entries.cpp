@@ -9,6 +9,7 @@
 
 #include "core/errors.h"
 #include "core/hash.h"
+#include "methods/plugins.h"
 #include "methods/registry.h"
 
 namespace causticbench {
@@ -232,6 +233,8 @@ void add_method_entry(const ConfigNode& entry, Experiment& experiment, RunCount&
                   {"method", info.name},                 {"params", run.params.key_json(info.params)}};
       // Only when not 1, so that runs stored before the option keep their keys.
       if (experiment.pixel_samples != 1) run.spec["pixel_samples"] = experiment.pixel_samples;
+      // A plugin's method: which build of the plugin (a rebuilt plugin is measured again).
+      if (method->plugin) run.spec["plugin"] = method->plugin->key_json();
       run.key = hash_json(run.spec);
       if (!count.keys.insert(run.key).second) continue;  // the same run twice: keep one
       experiment.runs.push_back(std::move(run));

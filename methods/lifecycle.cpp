@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "methods/plugins.h"
+#include "methods/registry.h"
 
 namespace causticbench {
 
@@ -93,6 +95,8 @@ PrepareOutcome prepare_method(CausticMethod& method, const PrepareContext& conte
     return outcome;
   }
   const std::string& name = method.info().name;
+  // A plugin's build depends on which build of the plugin computed it: a rebuilt plugin computes it again.
+  if (const PluginIdentity* plugin = find_method(name).plugin) (*dependencies)["plugin"] = plugin->key_json();
   outcome.build_key = builds->key(name, *dependencies);
   if (std::optional<BuildStore::Found> stored = builds->find(name, outcome.build_key, *dependencies)) {
     std::string problem = stored->problem;

@@ -42,6 +42,8 @@ std::vector<MethodEntry>& mutable_registry() {
 
 const std::vector<MethodEntry>& method_registry() { return mutable_registry(); }
 
+void register_plugin_method(MethodEntry entry) { mutable_registry().push_back(std::move(entry)); }
+
 ScopedMethodRegistration::ScopedMethodRegistration(MethodEntry method) : name_(method.info().name) {
   for (const MethodEntry& existing : mutable_registry()) {
     if (existing.info().name == name_) throw std::logic_error("method '" + name_ + "' is registered already");

@@ -10,9 +10,12 @@
 
 namespace causticbench {
 
+struct PluginIdentity;  // methods/plugins.h
+
 struct MethodEntry {
   const MethodInfo& (*info)();
   std::function<std::unique_ptr<CausticMethod>()> create;
+  const PluginIdentity* plugin = nullptr;  // the plugin that registered it; null for a built-in method
 };
 
 const std::vector<MethodEntry>& method_registry();
@@ -23,6 +26,9 @@ std::unique_ptr<CausticMethod> create_method(const std::string& name);
 // The registered methods that have a GPU backend (CausticMethod::gpu()): those whose frame `render
 // --dump-frame` can write. Asks a fresh instance of each (constructors do no work).
 std::vector<std::string> methods_with_gpu_backend();
+
+// Adds a plugin's method (methods/plugins.h checks its name first); it stays until the process ends.
+void register_plugin_method(MethodEntry entry);
 
 // For tests: adds a method to the registry (after the built-in ones) until destroyed, so that a test
 // can drive a synthetic method through experiments and the runner. Not for built-in methods: those

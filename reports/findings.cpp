@@ -49,6 +49,14 @@ std::vector<std::pair<std::string, std::string>> experiment_facts(const Report& 
   if (!report.multi() && !resolution.empty()) facts.push_back({"resolution", resolution});
   add("frames", member(report.experiment, "frames"));
   add("repetitions", member(report.experiment, "repetitions"));
+  // Which build of each plugin the runs measured (methods/plugins.h): its hash is in their keys.
+  if (const json& plugins = member(report.experiment, "plugins"); plugins.is_array() && !plugins.empty()) {
+    std::vector<std::string> builds;
+    for (const json& plugin : plugins)
+      builds.push_back(fmt::format("{} {} (xxhash {}, {})", string_member(plugin, "name"), string_member(plugin, "version"),
+                                   string_member(plugin, "hash"), string_member(plugin, "path")));
+    facts.push_back({"plugins", join(builds, "; ")});
+  }
   if (report.seeds > 1)
     facts.push_back({"seeds", fmt::format("{} (a stochastic run's metrics are the means over {} seeds, its own and the "
                                           "next, \u00b1 their 95 % Student-t interval; a deterministic run is measured "

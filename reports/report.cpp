@@ -19,8 +19,19 @@ using namespace report_detail;
 
 namespace {
 
+// The vendored bundles: in the source tree this causticbench was built from, or, for an installed one
+// whose tree is gone, beside it under share/causticbench/vendor (cmake/sdk.cmake installs them there).
+fs::path vendor_folder() {
+  const fs::path tree = fs::path(CAUSTICBENCH_SOURCE_DIR) / "reports" / "vendor";
+  if (fs::is_directory(tree)) return tree;
+  std::error_code error;
+  const fs::path executable = fs::read_symlink("/proc/self/exe", error);
+  const fs::path installed = executable.parent_path().parent_path() / "share" / "causticbench" / "vendor";
+  return !error && fs::is_directory(installed) ? installed : tree;
+}
+
 void copy_vendor(const fs::path& target) {
-  fs::path source = fs::path(CAUSTICBENCH_SOURCE_DIR) / "reports" / "vendor";
+  const fs::path source = vendor_folder();
   for (const char* file : kVendorFiles) {
     if (!fs::is_regular_file(source / file)) {
       throw std::runtime_error(

@@ -1,0 +1,161 @@
+// Plugins (methods/plugin.h, methods/plugins.h, docs/sdk.md): the example method of examples/, loaded with
+// --plugin, an experiment's plugins: list and CAUSTICBENCH_PLUGINS, is listed, described, rendered and
+// run next to photon_map, its identity in its run keys (a rebuilt plugin is measured again); a library of
+// another SDK version, one without the entry point, one whose registration throws, one whose method takes
+// a built-in name, a missing file and a file that is no library are each refused with exit code 2 and a
+// message naming it, nothing stored; and the example built out of the tree against an installed SDK.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/report_test_support.h"
+#include "tests/test_support.h"
+
+namespace causticbench {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using report_testing::read_text;
+
+std::string plugin(const std::string& name) { return std::string(CAUSTICBENCH_TEST_PLUGINS) + "/test_plugin_" + name + ".so"; }
+
+std::string causticbench(const std::string& arguments) { return std::string(CAUSTICBENCH_BINARY) + " " + arguments; }
+
+class Plugins : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder.write("scene.yaml", testing::replace_once(testing::kSmallGlassSphere, "resolution: [40, 40]", "resolution: [24, 24]"));
+  }
+  // An experiment with photon_map and the example plugin's method, the plugin named by `plugins`.
+  std::string experiment(const std::string& name, const std::string& plugins) const {
+    return folder.write(name + ".yaml", "name: " + name + R"(
+scene: scene.yaml
+reference: {photons_per_pass: 100000, max_passes: 2, target_error: 0}
+repetitions: 1
+)" + plugins + R"(methods:
+  - method: photon_map
+  - method: fixed_radius_splat
+    frame: {photons: 20000}
+    sweep: {radius: [0.05, 0.1]}
+)");
+  }
+  std::vector<json> records(const std::string& name) const {
+    std::vector<json> found;
+    const fs::path runs = folder.path("results") + "/" + name + "/runs";
+    if (!fs::exists(runs)) return found;
+    for (const auto& entry : fs::directory_iterator(runs)) found.push_back(json::parse(read_text(entry.path() / "record.json")));
+    return found;
+  }
+  testing::TemporaryFolder folder{"plugins"};
+};
+
+TEST_F(Plugins, TheExampleIsListedDescribedRenderedAndRunBesideTheBuiltInMethods) {
+  std::string output;
+  ASSERT_EQ(testing::run_command(causticbench("--plugin " + plugin("example") + " list"), output), 0) << output;
+  EXPECT_NE(output.find("fixed_radius_splat Traces caustic photons"), std::string::npos) << output;
+  EXPECT_NE(output.find("[plugin fixed_radius_splat 1.0, "), std::string::npos) << output;
+  // After the subcommand too; and without the plugin the method is unknown.
+  ASSERT_EQ(testing::run_command(causticbench("describe fixed_radius_splat --plugin " + plugin("example")), output), 0) << output;
+  EXPECT_NE(output.find("radius"), std::string::npos);
+  EXPECT_NE(output.find("From plugin fixed_radius_splat 1.0"), std::string::npos) << output;
+  EXPECT_EQ(testing::run_command(causticbench("describe fixed_radius_splat"), output), 2) << output;
+  ASSERT_EQ(testing::run_command(causticbench("render " + folder.path("scene.yaml") + " --method fixed_radius_splat --set photons=20000 --out " +
+                                              folder.path("render") + " --plugin " + plugin("example")),
+                                 output),
+            0)
+      << output;
+  EXPECT_TRUE(fs::is_regular_file(folder.path("render") + "/caustic.exr"));
+
+  // An experiment's plugins: list, relative to the file.
+  fs::copy_file(plugin("example"), folder.path("splat.so"));
+  const std::string file = experiment("beside", "plugins: [splat.so]\n");
+  ASSERT_EQ(testing::run_command(causticbench("run " + file + " --results " + folder.path("results")), output), 0) << output;
+  EXPECT_NE(output.find("3 run now, 0 failed"), std::string::npos) << output;
+  std::string hash;
+  for (const json& record : records("beside")) {
+    EXPECT_EQ(record["status"], "ok") << record["error"];
+    if (record["method"] != "fixed_radius_splat") continue;
+    EXPECT_GT(record["metrics"]["relmse"].get<double>(), 0.0);
+    EXPECT_EQ(record["spec"]["plugin"]["name"], "fixed_radius_splat");
+    hash = record["spec"]["plugin"]["hash"];
+  }
+  EXPECT_EQ(hash.size(), 16u);
+  const json experiment_json = json::parse(read_text(folder.path("results") + "/beside/experiment.json"));
+  EXPECT_EQ(experiment_json["plugins"][0]["hash"], hash);
+  const std::string markdown = read_text(folder.path("results") + "/beside/report.md");
+  EXPECT_NE(markdown.find("fixed_radius_splat 1.0 (xxhash " + hash), std::string::npos) << "the report names the build";
+
+  // Stored: nothing to do. A rebuilt plugin (other bytes) has other keys: its runs are measured again,
+  // photon_map's are not. Loaded through CAUSTICBENCH_PLUGINS this time.
+  ASSERT_EQ(testing::run_command(causticbench("run " + file + " --results " + folder.path("results") + " --no-report"), output), 0);
+  EXPECT_NE(output.find("0 run now"), std::string::npos) << output;
+  {
+    std::ofstream rebuilt(folder.path("splat.so"), std::ios::app | std::ios::binary);
+    rebuilt << "a rebuilt plugin";
+  }
+  const std::string by_environment = experiment("beside", "");
+  ASSERT_EQ(testing::run_command("CAUSTICBENCH_PLUGINS=" + folder.path("splat.so") + " " +
+                                     causticbench("run " + by_environment + " --results " + folder.path("results") + " --no-report"),
+                                 output),
+            0)
+      << output;
+  EXPECT_NE(output.find("2 run now, 0 failed"), std::string::npos) << output;
+}
+
+TEST_F(Plugins, BadPluginsAreRefusedWithExitTwoAndNothingStored) {
+  fs::copy_file(plugin("example"), folder.path("splat.so"));
+  folder.write("text.so", "not a shared library\n");
+  const struct {
+    std::string path, message;
+  } cases[] = {
+      {plugin("abi_mismatch"), "built against causticbench SDK version 999, but this causticbench is SDK version 1"},
+      {plugin("no_entry_point"), "exports no causticbench_plugin(): not a causticbench plugin"},
+      {plugin("throwing"), "plugin throwing (" + plugin("throwing") + "): its registration failed: the licence file licence.txt is missing"},
+      {plugin("clash"), "its method 'photon_map' clashes with the built-in method of that name"},
+      {folder.path("missing.so"), "plugin " + folder.path("missing.so") + ": no such file"},
+      {folder.path("text.so"), ": cannot be loaded: "},
+  };
+  for (const auto& bad : cases) {
+    SCOPED_TRACE(bad.path);
+    std::string output;
+    EXPECT_EQ(testing::run_command(causticbench("--plugin " + bad.path + " list"), output), 2) << output;
+    EXPECT_NE(output.find(bad.message), std::string::npos) << output;
+    // In an experiment's plugins: list beside a good one: refused before any work, with the file and line.
+    const std::string file = experiment("refused", "plugins: [splat.so, " + bad.path + "]\n");
+    EXPECT_EQ(testing::run_command(causticbench("run " + file + " --results " + folder.path("results")), output), 2) << output;
+    EXPECT_NE(output.find("refused.yaml:5"), std::string::npos) << output;
+    EXPECT_NE(output.find(bad.message), std::string::npos) << output;
+    EXPECT_TRUE(records("refused").empty());
+    EXPECT_FALSE(fs::exists(folder.path("results") + "/references")) << "no reference computed";
+  }
+}
+
+// The example built out of the tree: causticbench installed into a temporary prefix, the example
+// configured against it with find_package(causticbench), built, and run by the installed executable next
+// to photon_map.
+TEST_F(Plugins, TheExampleBuildsOutOfTreeAgainstTheInstalledSdk) {
+  std::string output;
+  const std::string prefix = folder.path("prefix"), build = folder.path("example-build");
+  ASSERT_EQ(testing::run_command("cmake --install " + std::string(CAUSTICBENCH_BUILD_DIR) + " --prefix " + prefix, output), 0)
+      << output;
+  EXPECT_TRUE(fs::is_regular_file(prefix + "/include/causticbench/methods/plugin.h"));
+  EXPECT_FALSE(fs::exists(prefix + "/include/causticbench/experiments")) << "only the SDK's surface is installed";
+  ASSERT_EQ(testing::run_command("cmake -S " + std::string(CAUSTICBENCH_EXAMPLE_DIR) + " -B " + build +
+                                     " -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=" + prefix + " && cmake --build " + build,
+                                 output),
+            0)
+      << output;
+  const std::string library = build + "/fixed_radius_splat.so";
+  ASSERT_TRUE(fs::is_regular_file(library)) << output;
+  const std::string file = experiment("out_of_tree", "plugins: [" + library + "]\n");
+  ASSERT_EQ(testing::run_command(prefix + "/bin/causticbench run " + file + " --results " + folder.path("results") + " --no-report", output), 0)
+      << output;
+  EXPECT_NE(output.find("3 run now, 0 failed"), std::string::npos) << output;
+}
+
+}  // namespace
+}  // namespace causticbench
