@@ -52,6 +52,8 @@ struct SlurmOptions {
 int run_slurm(const SlurmOptions& options);
 // Exit code 0 when every run is stored, 3 when runs are pending.
 int run_status(const std::string& folder);
+// `conform [METHOD]`: the conformance and capability suites on a plugin's methods (apps/conform_command.cpp).
+int run_conform(const std::string& method);
 int run_report(const std::string& folder, bool recompute_metrics = false, double viewer_megabytes = kDefaultViewerMegabytes);
 // `causticbench summarize`: the study's summary across experiment folders, into `out` (empty: the first
 // folder's parent).

@@ -31,7 +31,9 @@ int main(int argc, char** argv) {
                  "load the methods of a plugin, a shared library built against the causticbench SDK (docs/sdk.md);\n"
                  "repeatable, before or after the subcommand; also CAUSTICBENCH_PLUGINS=PATH:PATH and an experiment's\n"
                  "plugins: list")
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+      ->allow_extra_args(false)
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);  // one path per --plugin: never the arguments after it
   // Options of the main command (--plugin, --quiet) may follow the subcommand's.
   app.fallthrough();
 
@@ -160,6 +162,12 @@ int main(int argc, char** argv) {
   describe_command->add_flag("--quick-knobs", quick_knobs,
                              "print only the method's quick knobs, one `knob=value` a line: a cheap setting for smoke runs "
                              "(scripts/render_every_method.sh, the conformance tests)");
+  std::string conform_method;
+  CLI::App* conform_command = app.add_subcommand(
+      "conform", "Run the conformance and capability checks every built-in method passes on a plugin's methods\n"
+                 "(--plugin PATH; all of its methods, or METHOD): the same suites, by causticbench-conformance.\n"
+                 "Prints each check and what failed; exit code 0 when all pass, 1 when one fails (docs/sdk.md).");
+  conform_command->add_option("method", conform_method, "one method (default: every method of the loaded plugins)");
   std::string validate_file;
   CLI::App* validate_command = app.add_subcommand("validate", "Check a scene or experiment file; the first defect is reported with file, line, column, key, expected\nand found.");
   validate_command->add_option("file", validate_file, "scene or experiment file")->required();
@@ -185,6 +193,7 @@ int main(int argc, char** argv) {
     if (*list_command) return run_list();
     if (*describe_command) return run_describe(describe_name, markdown, quick_knobs);
     if (*validate_command) return run_validate(validate_file);
+    if (*conform_command) return run_conform(conform_method);
   } catch (const InputError& error) {
     fmt::print(stderr, "error: {}\n", error.what());
     return 2;

@@ -8,6 +8,16 @@ include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 install(TARGETS causticbench RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# What `causticbench conform` runs (tests/conformance_main.cpp), with the scenes and the capability studies
+# it reads once the source tree is gone.
+if(TARGET causticbench-conformance)
+  install(TARGETS causticbench-conformance RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/configs/scenes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/causticbench/configs/scenes)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/assets/ DESTINATION ${CMAKE_INSTALL_DATADIR}/causticbench/assets)
+  install(FILES ${PROJECT_SOURCE_DIR}/configs/experiments/study_capabilities.yaml
+    ${PROJECT_SOURCE_DIR}/configs/experiments/study_capabilities_glass.yaml
+    DESTINATION ${CMAKE_INSTALL_DATADIR}/causticbench/configs/experiments)
+endif()
 # The report's plotting bundles, which reports/report.cpp finds there once the source tree is gone.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/reports/vendor/ DESTINATION ${CMAKE_INSTALL_DATADIR}/causticbench/vendor
   FILES_MATCHING PATTERN "*.js" PATTERN "LICENSE-*")

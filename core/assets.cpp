@@ -40,6 +40,10 @@ std::vector<std::string> asset_search_path(const std::string& scene_folder) {
 #ifdef CAUSTICBENCH_SOURCE_DIR
   folders.push_back(std::string(CAUSTICBENCH_SOURCE_DIR) + "/assets");
 #endif
+  // An installed causticbench (cmake/sdk.cmake): share/causticbench/assets beside its executable.
+  std::error_code error;
+  const std::filesystem::path executable = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (!error) folders.push_back((executable.parent_path().parent_path() / "share" / "causticbench" / "assets").string());
   folders.push_back("/usr/share");
   folders.push_back("/usr/local/share");
   return folders;

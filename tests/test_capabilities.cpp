@@ -47,13 +47,13 @@ namespace {
 // without reflection cannot show on the mirror; configs/experiments/study_capabilities_glass.yaml).
 const Experiment& mirror_study() {
   static const Experiment experiment =
-      load_experiment(std::string(CAUSTICBENCH_SCENES) + "/../experiments/study_capabilities.yaml");
+      load_experiment(causticbench::testing::shipped_scenes() + "/../experiments/study_capabilities.yaml");
   return experiment;
 }
 
 const Experiment& glass_study() {
   static const Experiment experiment =
-      load_experiment(std::string(CAUSTICBENCH_SCENES) + "/../experiments/study_capabilities_glass.yaml");
+      load_experiment(causticbench::testing::shipped_scenes() + "/../experiments/study_capabilities_glass.yaml");
   return experiment;
 }
 
@@ -242,7 +242,7 @@ std::vector<std::string> capability_names() {
 // glass sphere's cases likewise, each of them the glass twin of a mirror case built on reflection.
 TEST(CapabilityScenes, EveryCapabilityHasACaseAndATwin) {
   const std::vector<std::string> names = capability_names();
-  const std::string folder = std::string(CAUSTICBENCH_SCENES) + "/capabilities/";
+  const std::string folder = causticbench::testing::shipped_scenes() + "/capabilities/";
   for (const std::string& capability : names) {
     ASSERT_NO_THROW(case_of(capability)) << "no case for capability '" << capability << "'";
     std::vector<Case> cases = {case_of(capability)};

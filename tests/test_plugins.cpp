@@ -134,6 +134,29 @@ TEST_F(Plugins, BadPluginsAreRefusedWithExitTwoAndNothingStored) {
   }
 }
 
+// `conform`: the suites every built-in method passes, on a plugin's methods. The example passes them; a
+// method that lights the receivers with a constant and declares reflection fails its capability checks,
+// and the command says which, with exit code 1.
+TEST_F(Plugins, ConformRunsTheBuiltInMethodsChecksOnAPlugin) {
+  std::string output;
+  ASSERT_EQ(testing::run_command(causticbench("conform --plugin " + plugin("example")), output), 0) << output;
+  EXPECT_NE(output.find("pass     Registry/Conformance.OutputIsWellFormedOnEveryShippedSceneItAccepts/fixed_radius_splat"),
+            std::string::npos)
+      << output;
+  EXPECT_NE(output.find("pass     AllMethods/CapabilityConformance.DeclarationMatchesMeasurement/fixed_radius_splat_refraction"),
+            std::string::npos)
+      << output;
+  EXPECT_NE(output.find(" 0 failed"), std::string::npos) << output;
+  EXPECT_EQ(testing::run_command(causticbench("conform --plugin " + plugin("nonconforming") + " floodlight"), output), 1) << output;
+  EXPECT_NE(output.find("FAIL     AllMethods/CapabilityConformance.DeclarationMatchesMeasurement/floodlight_reflection"),
+            std::string::npos)
+      << output;
+  EXPECT_NE(output.find("declared capability does not hold: method floodlight capability reflection"), std::string::npos)
+      << output;
+  EXPECT_EQ(testing::run_command(causticbench("conform"), output), 2) << output;
+  EXPECT_NE(output.find("load a plugin with --plugin PATH"), std::string::npos) << output;
+}
+
 // The example built out of the tree: causticbench installed into a temporary prefix, the example
 // configured against it with find_package(causticbench), built, and run by the installed executable next
 // to photon_map.
@@ -155,6 +178,9 @@ TEST_F(Plugins, TheExampleBuildsOutOfTreeAgainstTheInstalledSdk) {
   ASSERT_EQ(testing::run_command(prefix + "/bin/causticbench run " + file + " --results " + folder.path("results") + " --no-report", output), 0)
       << output;
   EXPECT_NE(output.find("3 run now, 0 failed"), std::string::npos) << output;
+  // The installed conform runs the installed suites on it.
+  ASSERT_EQ(testing::run_command(prefix + "/bin/causticbench conform --plugin " + library, output), 0) << output;
+  EXPECT_NE(output.find(prefix + "/bin/causticbench-conformance"), std::string::npos) << output;
 }
 
 }  // namespace

@@ -226,6 +226,15 @@ std::string replace_lines(std::string text, const std::vector<std::pair<std::str
   return text;
 }
 
+std::string shipped_scenes() {
+  // The tree this build came from; once it is gone (an installed causticbench-conformance), the copy
+  // cmake/sdk.cmake installs beside the executable.
+  if (std::filesystem::is_directory(CAUSTICBENCH_SCENES)) return CAUSTICBENCH_SCENES;
+  std::error_code error;
+  const std::filesystem::path executable = std::filesystem::read_symlink("/proc/self/exe", error);
+  return (executable.parent_path().parent_path() / "share" / "causticbench" / "configs" / "scenes").string();
+}
+
 std::vector<std::filesystem::path> shipped_experiments(const std::string& prefix) {
   std::vector<std::filesystem::path> files;
   for (const auto& entry : std::filesystem::directory_iterator(std::string(CAUSTICBENCH_SCENES) + "/../experiments"))

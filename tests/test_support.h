@@ -14,6 +14,10 @@
 namespace causticbench::testing {
 
 // A glass sphere (radius 0.4) above a diffuse floor under a tilted directional light, 40 x 40 pixels.
+// configs/scenes of the tree this build came from, or the installed copy beside the executable
+// (share/causticbench/configs/scenes) once the tree is gone: what causticbench-conformance reads.
+std::string shipped_scenes();
+
 extern const char* const kSmallGlassSphere;
 // The flat mirror of the caustic methods' tests, whose caustic is known in closed form: a 0.6 x 0.6
 // mirror (reflectance 0.9) 1.5 above the floor, under a sun of irradiance 2 travelling at 45 degrees down

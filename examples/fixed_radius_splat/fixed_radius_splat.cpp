@@ -34,7 +34,7 @@ class FixedRadiusSplat : public CausticMethod {
       };
       Capabilities& c = m.capabilities;
       c.reflection = c.refraction = c.multiple_bounces = true;
-      c.directional_light = c.point_light = true;
+      c.directional_light = c.point_light = c.environment_light = true;
       c.moving_light = c.moving_objects = c.occlusion = c.non_lambertian_receivers = true;
       c.notes = {{"non_lambertian_receivers", "E_c is irradiance, independent of the receiver's BRDF"}};
       m.quick_knobs = {"photons=20000", "radius=0.1"};
