@@ -223,6 +223,15 @@ TEST_F(SeededExperiment, EveryStochasticRunIsMeasuredWithItsSeedsUnderItsKey) {
   ASSERT_EQ(run(more + " --no-report", output), 0) << output;
   EXPECT_NE(output.find("4 run now, 0 failed"), std::string::npos) << output;
   EXPECT_EQ(record_of("seeded", "photon_map photons=1000")["seeds"]["runs"].size(), 4u);
+  // `status` counts the same way: with 5 seeds asked, the four stochastic runs are pending.
+  const std::string experiment_json = results() + "/seeded/experiment.json";
+  json asked = json::parse(report_testing::read_text(experiment_json));
+  asked["seeds"] = 5;
+  report_testing::write_json(experiment_json, asked);
+  EXPECT_EQ(testing::run_command(std::string(CAUSTICBENCH_BINARY) + " status " + results() + "/seeded", output), 3) << output;
+  EXPECT_NE(output.find("1 stored ok, 0 failed, 4 pending"), std::string::npos) << output;
+  asked["seeds"] = 4;
+  report_testing::write_json(experiment_json, asked);
 
   // The viewer shows the standard deviation over the seeds in its own pane (read back under the cursor);
   // a deterministic run has none, and its pane stays hidden.
