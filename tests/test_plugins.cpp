@@ -50,7 +50,8 @@ repetitions: 1
     for (const auto& entry : fs::directory_iterator(runs)) found.push_back(json::parse(read_text(entry.path() / "record.json")));
     return found;
   }
-  testing::TemporaryFolder folder{"plugins"};
+  // One folder per test: CTest runs the tests of this fixture as processes side by side.
+  testing::TemporaryFolder folder{std::string("plugins_") + ::testing::UnitTest::GetInstance()->current_test_info()->name()};
 };
 
 TEST_F(Plugins, TheExampleIsListedDescribedRenderedAndRunBesideTheBuiltInMethods) {

@@ -119,7 +119,8 @@ seeds: )" + std::to_string(seeds) + "\nmethods:\n" + methods);
     }
     return json();
   }
-  testing::TemporaryFolder folder{"seeds"};
+  // One folder per test: CTest runs the tests of this fixture as processes side by side.
+  testing::TemporaryFolder folder{std::string("seeds_") + ::testing::UnitTest::GetInstance()->current_test_info()->name()};
 };
 
 constexpr const char* kMethods = R"(  - method: photon_map
