@@ -264,7 +264,7 @@ class RunExecutor {
           RunOutcome failed;
           failed.record = run_identity(experiment_, replicas[r]);
           failed.record.status = "failed";
-          failed.record.error = which + error.what();
+          failed.record.error = error.what();  // combine_seeds names the seed
           outcomes[r].push_back(std::move(failed));
         }
       }
