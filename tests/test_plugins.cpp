@@ -107,6 +107,40 @@ TEST_F(Plugins, TheExampleIsListedDescribedRenderedAndRunBesideTheBuiltInMethods
   EXPECT_NE(output.find("2 run now, 0 failed"), std::string::npos) << output;
 }
 
+// A plugin's stored build is keyed with the plugin's identity: a second experiment loads it, a rebuilt
+// plugin (other bytes) computes its own.
+TEST_F(Plugins, APluginsBuildIsCachedAndARebuiltPluginComputesItsOwn) {
+  fs::copy_file(plugin("cached"), folder.path("cached.so"));
+  auto run_cached = [&](const std::string& name, const std::string& library) {
+    const std::string file = folder.write(name + ".yaml", "name: " + name + R"(
+scene: scene.yaml
+reference: {photons_per_pass: 100000, max_passes: 2, target_error: 0}
+repetitions: 1
+plugins: [)" + library + R"(]
+methods:
+  - method: cached_constant
+)");
+    std::string output;
+    EXPECT_EQ(testing::run_command(causticbench("run " + file + " --results " + folder.path("results") + " --no-report"), output), 0)
+        << output;
+    const std::vector<json> found = records(name);
+    return found.size() == 1 ? found.front() : json();
+  };
+  const json first = run_cached("first", "cached.so");
+  ASSERT_TRUE(first.is_object());
+  EXPECT_EQ(first["prepare"]["source"], "computed");
+  EXPECT_EQ(first["method_record"]["level"], 3.0) << "two objects and the offset";
+  const json second = run_cached("second", "cached.so");
+  EXPECT_EQ(second["prepare"]["source"], "loaded");
+  EXPECT_EQ(second["prepare"]["build_key"], first["prepare"]["build_key"]);
+  EXPECT_EQ(second["method_record"]["level"], 3.0);
+  fs::copy_file(plugin("cached"), folder.path("rebuilt.so"));
+  std::ofstream(folder.path("rebuilt.so"), std::ios::app | std::ios::binary) << "rebuilt";
+  const json third = run_cached("third", "rebuilt.so");
+  EXPECT_EQ(third["prepare"]["source"], "computed");
+  EXPECT_NE(third["prepare"]["build_key"], first["prepare"]["build_key"]);
+}
+
 TEST_F(Plugins, BadPluginsAreRefusedWithExitTwoAndNothingStored) {
   fs::copy_file(plugin("example"), folder.path("splat.so"));
   folder.write("text.so", "not a shared library\n");
