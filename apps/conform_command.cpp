@@ -15,6 +15,8 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/commands.h"
+#include "apps/shell.h"
+#include "core/assets.h"
 #include "core/errors.h"
 #include "core/files.h"
 #include "methods/plugins.h"
@@ -27,18 +29,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path conformance_executable() {
-  std::error_code error;
-  const fs::path self = fs::read_symlink("/proc/self/exe", error);
-  return self.parent_path() / "causticbench-conformance";
-}
-
-// A shell word: single-quoted, with its own single quotes escaped.
-std::string quoted(const std::string& text) {
-  std::string out = "'";
-  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
+// Installed and built beside causticbench (tests/CMakeLists.txt, cmake/sdk.cmake).
+fs::path conformance_executable() { return fs::path(executable_path()).parent_path() / "causticbench-conformance"; }
 
 }  // namespace
 
@@ -68,8 +60,9 @@ int run_conform(const std::string& method) {
   const fs::path report = fs::temp_directory_path() / fmt::format("causticbench_conform_{}.json", getpid());
   const fs::path log = fs::temp_directory_path() / fmt::format("causticbench_conform_{}.log", getpid());
   const std::string command = fmt::format("CAUSTICBENCH_PLUGINS={} {} --gtest_filter={} --gtest_output=json:{} > {} 2>&1",
-                                          quoted(join(paths, ":")), quoted(executable.string()),
-                                          quoted(join(filters, ":")), quoted(report.string()), quoted(log.string()));
+                                          shell_quoted(join(paths, ":")), shell_quoted(executable.string()),
+                                          shell_quoted(join(filters, ":")), shell_quoted(report.string()),
+                                          shell_quoted(log.string()));
   fmt::print("checking {} with {} (the suites every built-in method passes)\n", join(methods, ", "), executable.string());
   const int status = std::system(command.c_str());
   std::optional<std::string> text = read_file_bytes(report.string());

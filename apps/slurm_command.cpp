@@ -12,6 +12,8 @@
 #include "apps/commands.h"
 #include "core/errors.h"
 #include "core/files.h"
+#include "apps/shell.h"
+#include "core/assets.h"
 #include "experiments/experiment.h"
 #include "store/result_paths.h"
 #include "experiments/shard_plan.h"
@@ -21,13 +23,6 @@ namespace causticbench {
 namespace fs = std::filesystem;
 
 namespace {
-
-// 'text' for the shell, whatever it holds.
-std::string shell_quoted(const std::string& text) {
-  std::string result = "'";
-  for (char c : text) result += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return result + "'";
-}
 
 // An #SBATCH argument: sbatch reads a directive's arguments as the shell would split words, with double
 // quotes around a word that holds spaces and a backslash before a quote or a backslash. A '%' starts one
@@ -60,9 +55,8 @@ void check_job_text(const std::string& what, const std::string& text) {
 }
 
 std::string this_program() {
-  std::error_code error;
-  fs::path path = fs::read_symlink("/proc/self/exe", error);
-  return error ? "causticbench" : path.string();
+  const std::string path = executable_path();
+  return path.empty() ? "causticbench" : path;
 }
 
 // The #SBATCH lines every job gets: the resource options, then the user's extra lines as given.

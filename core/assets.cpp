@@ -1,5 +1,6 @@
 #include "core/assets.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 
@@ -24,26 +25,39 @@ const std::vector<KnownAsset>& known_assets() {
   return assets;
 }
 
+std::string executable_path() {
+  std::error_code error;
+  const std::filesystem::path path = std::filesystem::read_symlink("/proc/self/exe", error);
+  return error ? std::string() : path.string();
+}
+
+std::string installed_data_folder() {
+  const std::string executable = executable_path();
+  if (executable.empty()) return "";
+  return (std::filesystem::path(executable).parent_path().parent_path() / "share" / "causticbench").string();
+}
+
+std::vector<std::string> split_path_list(const std::string& list) {
+  std::vector<std::string> entries;
+  size_t start = 0;
+  while (start <= list.size()) {
+    const size_t end = std::min(list.find(':', start), list.size());
+    if (end > start) entries.push_back(list.substr(start, end - start));
+    start = end + 1;
+  }
+  return entries;
+}
+
 std::vector<std::string> asset_search_path(const std::string& scene_folder) {
   std::vector<std::string> folders;
   if (!scene_folder.empty()) folders.push_back(scene_folder);
-  if (const char* extra = std::getenv("CAUSTICBENCH_ASSET_PATH")) {
-    std::string list = extra;
-    size_t start = 0;
-    while (start <= list.size()) {
-      size_t end = list.find(':', start);
-      if (end == std::string::npos) end = list.size();
-      if (end > start) folders.push_back(list.substr(start, end - start));
-      start = end + 1;
-    }
-  }
+  if (const char* extra = std::getenv("CAUSTICBENCH_ASSET_PATH"))
+    for (const std::string& folder : split_path_list(extra)) folders.push_back(folder);
 #ifdef CAUSTICBENCH_SOURCE_DIR
   folders.push_back(std::string(CAUSTICBENCH_SOURCE_DIR) + "/assets");
 #endif
-  // An installed causticbench (cmake/sdk.cmake): share/causticbench/assets beside its executable.
-  std::error_code error;
-  const std::filesystem::path executable = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (!error) folders.push_back((executable.parent_path().parent_path() / "share" / "causticbench" / "assets").string());
+  // An installed causticbench (cmake/sdk.cmake).
+  if (const std::string installed = installed_data_folder(); !installed.empty()) folders.push_back(installed + "/assets");
   folders.push_back("/usr/share");
   folders.push_back("/usr/local/share");
   return folders;

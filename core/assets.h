@@ -25,6 +25,14 @@ const std::vector<KnownAsset>& known_assets();
 
 std::vector<std::string> asset_search_path(const std::string& scene_folder);
 
+// The running executable's path; empty when the system does not say.
+std::string executable_path();
+// Where an installed causticbench keeps its data (cmake/sdk.cmake): share/causticbench beside the bin/
+// folder of the running executable (assets, scenes, the report's bundles); empty when unknown.
+std::string installed_data_folder();
+// A colon-separated list (CAUSTICBENCH_ASSET_PATH, CAUSTICBENCH_PLUGINS): its entries, empty ones dropped.
+std::vector<std::string> split_path_list(const std::string& list);
+
 // Returns an absolute path, or throws an InputError naming the asset, the folders searched and
 // where to get it.
 std::string resolve_asset(const std::string& name, const AssetKind& kind, const std::string& scene_folder,

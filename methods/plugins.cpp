@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "core/assets.h"
 #include "core/errors.h"
 #include "core/hash.h"
 #include "methods/plugin.h"
@@ -140,19 +141,12 @@ const PluginIdentity& load_plugin(const std::string& given) {
 void load_plugins_from_environment() {
   const char* list = std::getenv("CAUSTICBENCH_PLUGINS");
   if (!list) return;
-  std::string text = list;
-  size_t start = 0;
-  while (start <= text.size()) {
-    const size_t end = std::min(text.find(':', start), text.size());
-    const std::string path = text.substr(start, end - start);
-    if (!path.empty()) {
-      try {
-        load_plugin(path);
-      } catch (const InputError& failure) {
-        throw InputError(fmt::format("CAUSTICBENCH_PLUGINS: {}", failure.what()));
-      }
+  for (const std::string& path : split_path_list(list)) {
+    try {
+      load_plugin(path);
+    } catch (const InputError& failure) {
+      throw InputError(fmt::format("CAUSTICBENCH_PLUGINS: {}", failure.what()));
     }
-    start = end + 1;
   }
 }
 

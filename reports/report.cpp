@@ -9,6 +9,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "core/assets.h"
 #include "core/errors.h"
 #include "core/files.h"
 #include "reports/report_parts.h"
@@ -24,10 +25,8 @@ namespace {
 fs::path vendor_folder() {
   const fs::path tree = fs::path(CAUSTICBENCH_SOURCE_DIR) / "reports" / "vendor";
   if (fs::is_directory(tree)) return tree;
-  std::error_code error;
-  const fs::path executable = fs::read_symlink("/proc/self/exe", error);
-  const fs::path installed = executable.parent_path().parent_path() / "share" / "causticbench" / "vendor";
-  return !error && fs::is_directory(installed) ? installed : tree;
+  const std::string installed = installed_data_folder();
+  return !installed.empty() && fs::is_directory(installed + "/vendor") ? fs::path(installed) / "vendor" : tree;
 }
 
 void copy_vendor(const fs::path& target) {

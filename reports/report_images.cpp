@@ -228,7 +228,13 @@ void add_more_frames(ViewerData& viewer, const Report& report, const std::vector
     const Run& run = report.runs[i];
     json& entry = viewer.index()["runs"][place];
     const size_t count = run.record.frames.size();
-    for (size_t index = stride; index < count && index >= stride; index += stride) {
+    std::vector<std::string> notes;
+    if (stride > 1 && count > 1)
+      notes.push_back(stride >= count ? fmt::format("the first of its {} frames (report --viewer-mb 0)", count)
+                                      : fmt::format("every {} frames of its {} (report --viewer-mb {:.0f}: what frames "
+                                                    "beyond the first may take)", stride, count, budget / 1e6));
+    // stride < count here, so index + stride cannot wrap.
+    for (size_t index = stride; index < count; index += stride) {
       const FrameRecord& recorded = run.record.frames[index];
       const fs::path path = report.folder / "runs" / run.key / (recorded.image.empty() ? frame_file(recorded.frame) : recorded.image);
       try {
@@ -237,13 +243,10 @@ void add_more_frames(ViewerData& viewer, const Report& report, const std::vector
         const Image flip = with_flip && fits(reference, image) ? flip_error_map(image, reference.image, reference.mask) : Image();
         entry["frames"].push_back(frame_view(viewer, report, run, index, image, reference, flip));
       } catch (const std::exception& failure) {
-        entry["frames_note"] = fmt::format("frame {} unreadable: {}", recorded.frame, failure.what());
+        notes.push_back(fmt::format("frame {} unreadable: {}", recorded.frame, failure.what()));
       }
     }
-    if (stride > 1 && count > 1)
-      entry["frames_note"] = stride >= count ? fmt::format("the first of its {} frames (report --viewer-mb 0)", count)
-                                             : fmt::format("every {} frames of its {} (report --viewer-mb {:.0f}: what frames "
-                                                           "beyond the first may take)", stride, count, budget / 1e6);
+    if (!notes.empty()) entry["frames_note"] = join(notes, "; ");
   }
 }
 

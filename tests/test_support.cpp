@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/assets.h"
 #include "core/image_statistics.h"
 #include "gpu/vulkan_context.h"
 
@@ -230,9 +231,7 @@ std::string shipped_scenes() {
   // The tree this build came from; once it is gone (an installed causticbench-conformance), the copy
   // cmake/sdk.cmake installs beside the executable.
   if (std::filesystem::is_directory(CAUSTICBENCH_SCENES)) return CAUSTICBENCH_SCENES;
-  std::error_code error;
-  const std::filesystem::path executable = std::filesystem::read_symlink("/proc/self/exe", error);
-  return (executable.parent_path().parent_path() / "share" / "causticbench" / "configs" / "scenes").string();
+  return installed_data_folder() + "/configs/scenes";
 }
 
 std::vector<std::filesystem::path> shipped_experiments(const std::string& prefix) {

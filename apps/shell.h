@@ -1,0 +1,15 @@
+// Shell words for the commands the command line writes or runs (`slurm`'s jobs, `conform`'s suite).
+#pragma once
+
+#include <string>
+
+namespace causticbench {
+
+// 'text' for the shell, whatever it holds.
+inline std::string shell_quoted(const std::string& text) {
+  std::string result = "'";
+  for (char c : text) result += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return result + "'";
+}
+
+}  // namespace causticbench
