@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/commands.h"
-#include "apps/shell.h"
+#include "core/shell.h"
 #include "core/assets.h"
 #include "core/errors.h"
 #include "core/files.h"

@@ -12,7 +12,7 @@
 #include "apps/commands.h"
 #include "core/errors.h"
 #include "core/files.h"
-#include "apps/shell.h"
+#include "core/shell.h"
 #include "core/assets.h"
 #include "experiments/experiment.h"
 #include "store/result_paths.h"

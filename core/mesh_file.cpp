@@ -2,12 +2,14 @@
 
 #include <cmath>
 
+#include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "core/files.h"
 
 namespace causticbench {
 
@@ -99,6 +101,40 @@ std::shared_ptr<const TriangleMesh> load_mesh(const std::string& path, bool smoo
   if (!smooth_normals) mesh->compute_flat_normals();
   mesh->orient_by_normals();
   return mesh;
+}
+
+void write_mesh_ply(const TriangleMesh& mesh, const std::string& path) {
+  // aiScene's destructor frees what it points to: everything below is allocated with new[] for it.
+  aiScene scene;
+  scene.mRootNode = new aiNode();
+  scene.mRootNode->mNumMeshes = 1;
+  scene.mRootNode->mMeshes = new unsigned[1]{0};
+  scene.mNumMaterials = 1;
+  scene.mMaterials = new aiMaterial*[1]{new aiMaterial()};
+  auto* part = new aiMesh();
+  scene.mNumMeshes = 1;
+  scene.mMeshes = new aiMesh*[1]{part};
+  part->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
+  part->mNumVertices = static_cast<unsigned>(mesh.positions.size());
+  part->mVertices = new aiVector3D[mesh.positions.size()];
+  for (size_t v = 0; v < mesh.positions.size(); ++v)
+    part->mVertices[v] = aiVector3D(mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z);
+  if (mesh.normals.size() == mesh.positions.size()) {
+    part->mNormals = new aiVector3D[mesh.normals.size()];
+    for (size_t v = 0; v < mesh.normals.size(); ++v)
+      part->mNormals[v] = aiVector3D(mesh.normals[v].x, mesh.normals[v].y, mesh.normals[v].z);
+  }
+  part->mNumFaces = static_cast<unsigned>(mesh.triangles.size());
+  part->mFaces = new aiFace[mesh.triangles.size()];
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    part->mFaces[t].mNumIndices = 3;
+    part->mFaces[t].mIndices = new unsigned[3]{mesh.triangles[t].x, mesh.triangles[t].y, mesh.triangles[t].z};
+  }
+  write_file_atomically_with(path, [&](const std::string& temporary) {
+    Assimp::Exporter exporter;
+    if (exporter.Export(&scene, "plyb", temporary) != aiReturn_SUCCESS)
+      throw WriteError(fmt::format("{}: cannot write the mesh: {}", path, exporter.GetErrorString()));
+  });
 }
 
 }  // namespace causticbench

@@ -16,4 +16,10 @@ namespace causticbench {
 std::shared_ptr<const TriangleMesh> load_mesh(const std::string& path, bool smooth_normals, double fit_size,
                                               const SourceLocation& where);
 
+// Writes `mesh` as a binary little-endian PLY (Assimp's exporter): positions, vertex normals (when the
+// mesh has them) and triangles, in single precision as held, so that load_mesh reads back the same
+// triangles and normals (its joining of identical vertices may renumber the vertices, never move them).
+// Atomic; WriteError naming the file on failure.
+void write_mesh_ply(const TriangleMesh& mesh, const std::string& path);
+
 }  // namespace causticbench

@@ -59,10 +59,10 @@ void read_fixed(const ConfigNode& node, KnobAssignment& fixed, const MethodInfo&
   for (const std::string& key : node.keys()) {
     ConfigNode value = node.child(key);
     if (phase) {
-      for (const ParamSpec& spec : info.params) {
-        if (spec.name == key && spec.phase != *phase) {
+      if (const ParamSpec* spec = find_param_spec(info.params, key)) {
+        if (spec->phase != *phase) {
           value.fail_here(fmt::format("a {} knob of '{}' here ('{}' is a {} knob: put it under `{}:` or `knobs:`)",
-                                      phase_name(*phase), info.name, key, phase_name(spec.phase), phase_name(spec.phase)),
+                                      phase_name(*phase), info.name, key, phase_name(spec->phase), phase_name(spec->phase)),
                           value.describe_value());
         }
       }
@@ -193,8 +193,7 @@ std::vector<std::pair<RunSpec, std::string>> resolve_combinations(const ConfigNo
   for (const auto& list : {entry_knobs.sweep, entry_knobs.zip}) {
     for (const auto& [name, values] : list) {
       if (applied.count(name)) continue;
-      const ParamSpec* spec = nullptr;
-      for (const ParamSpec& candidate : info.params) spec = candidate.name == name ? &candidate : spec;
+      const ParamSpec* spec = find_param_spec(info.params, name);
       throw_input_error(values.front().where, info.name + "." + name,
                         fmt::format("a knob that applies to at least one run of the sweep ({})",
                                     spec ? spec->condition_text() : "?"),

@@ -62,8 +62,11 @@ void check_filter_word(const std::string& term, const std::string& value, const 
 void check_filter_terms(const Experiment& experiment, const std::string& filter) {
   std::set<std::string> methods, knobs = {"method", "variant"};
   for (const RunSpec& run : experiment.runs) {
+    // A family's members (external's program.*) are known by the runs that set them.
+    for (const auto& [name, value] : run.params.values()) knobs.insert(name);
     if (!methods.insert(run.method).second) continue;
-    for (const ParamSpec& spec : find_method(run.method).info().params) knobs.insert(spec.name);
+    for (const ParamSpec& spec : find_method(run.method).info().params)
+      if (!spec.family) knobs.insert(spec.name);
   }
   std::vector<std::string> variants;
   for (const SceneVariant& variant : experiment.variants) variants.push_back(variant.name);

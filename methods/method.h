@@ -78,6 +78,10 @@ struct MethodInfo {
   // their time to a first frame, joined by the reference's own convergence (docs/reports.md, "Error
   // against time").
   std::string budget_knob;
+  // True for a method whose work is a user's program (external): what it models and costs is the
+  // program's, so the suites run over the whole registry (conformance, the capability matrix), which have
+  // no program to give it, leave it out (native_method_names()); methods/external/tests cover it.
+  bool runs_a_program = false;
 };
 
 // The first of `info`'s knob rules that `params` (resolved) break, with its problem; nothing when none.

@@ -1,5 +1,6 @@
 #include "methods/param_dict.h"
 
+#include <cctype>
 #include <cmath>
 #include <algorithm>
 #include <cstdlib>
@@ -26,6 +27,37 @@ ParamSpec ParamSpec::choice(std::string name, std::string fallback, std::vector<
                             std::string meaning, ParamPhase phase) {
   return ParamSpec{std::move(name), ParamType::choice, std::move(fallback), 0, 0, std::move(choices),
                    std::move(meaning), phase, std::nullopt, true, std::nullopt, false};
+}
+
+ParamSpec ParamSpec::text(std::string name, std::string fallback, std::string meaning, ParamPhase phase) {
+  return ParamSpec{std::move(name), ParamType::text, std::move(fallback), 0, 0, {}, std::move(meaning), phase,
+                   std::nullopt, true, std::nullopt, false};
+}
+
+ParamSpec ParamSpec::family_of(std::string prefix, std::string meaning, ParamPhase phase) {
+  ParamSpec spec = text(std::move(prefix), "", std::move(meaning), phase);
+  spec.family = true;
+  return spec;
+}
+
+namespace {
+bool is_word(const std::string& text) {
+  if (text.empty()) return false;
+  for (char c : text)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
+  return true;
+}
+}  // namespace
+
+bool ParamSpec::covers(const std::string& key) const {
+  if (!family) return key == name;
+  return key.size() > name.size() && key.compare(0, name.size(), name) == 0 && is_word(key.substr(name.size()));
+}
+
+const ParamSpec* find_param_spec(const std::vector<ParamSpec>& specs, const std::string& key) {
+  for (const ParamSpec& spec : specs)
+    if (spec.covers(key)) return &spec;
+  return nullptr;
 }
 
 std::string phase_name(ParamPhase phase) {
@@ -69,6 +101,7 @@ std::string ParamSpec::type_name() const {
     case ParamType::real: return "real";
     case ParamType::boolean: return "boolean";
     case ParamType::choice: return "choice";
+    case ParamType::text: return family ? "any" : "text";
   }
   return "?";
 }
@@ -82,6 +115,7 @@ std::string ParamSpec::range_text() const {
                            : fmt::format("[{}, {}]", min_value, max_value);
     case ParamType::boolean: return "true, false";
     case ParamType::choice: return join(choices, ", ");
+    case ParamType::text: return family ? "an integer, a number, true, false or text" : "any text";
   }
   return "";
 }
@@ -141,14 +175,33 @@ void ParamDict::set_from_config(const ConfigNode& map) {
   }
 }
 
+namespace {
+// Decimal only, as the YAML reader reads numbers: strtod alone would also take hex ("0x10"), leading
+// blanks and "infinity", so that --set and a YAML file would disagree on what is a number.
+const std::regex& decimal_number() {
+  static const std::regex decimal(R"([+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?)");
+  return decimal;
+}
+
+ParamValue typed_by_text(const std::string& text) {
+  if (text == "true") return true;
+  if (text == "false") return false;
+  static const std::regex whole(R"([+-]?[0-9]{1,18})");
+  if (std::regex_match(text, whole)) return static_cast<int64_t>(std::stoll(text));
+  if (std::regex_match(text, decimal_number())) {
+    double number = std::strtod(text.c_str(), nullptr);
+    if (std::isfinite(number)) return number;
+  }
+  return text;
+}
+}  // namespace
+
 ParamSet ParamDict::resolve(const std::vector<ParamSpec>& specs, const std::string& owner,
                             const std::set<std::string>& droppable) const {
   std::vector<std::string> names;
-  for (const ParamSpec& spec : specs) names.push_back(spec.name);
+  for (const ParamSpec& spec : specs) names.push_back(spec.family ? spec.name + "<name>" : spec.name);
   for (const auto& [key, entry] : entries_) {
-    bool known = false;
-    for (const std::string& name : names) known = known || name == key;
-    if (!known) {
+    if (!find_param_spec(specs, key)) {
       std::string prefix = entry.where.describe();
       throw InputError(fmt::format("{}{}unknown parameter '{}' for method '{}'{}; its parameters: {}", prefix,
                                    prefix.empty() ? "" : ": ", key, owner, did_you_mean(key, names), join(names, ", ")));
@@ -156,6 +209,13 @@ ParamSet ParamDict::resolve(const std::vector<ParamSpec>& specs, const std::stri
   }
   ParamSet result;
   for (const ParamSpec& spec : specs) {
+    if (spec.family) {
+      // Its members as set; typed by their text as YAML types a scalar, so that a swept program knob is
+      // a number in the run key, a claim's x and a filter.
+      for (const auto& [key, entry] : entries_)
+        if (spec.covers(key)) result.set(key, typed_by_text(entry.text));
+      continue;
+    }
     auto it = entries_.find(spec.name);
     if (spec.applies_when) {
       // The controlling knob is declared earlier, so it is resolved (or itself does not apply).
@@ -186,6 +246,9 @@ ParamSet ParamDict::resolve(const std::vector<ParamSpec>& specs, const std::stri
       throw_input_error(where, owner + "." + spec.name, expected, "'" + text + "'");
     };
     switch (spec.type) {
+      case ParamType::text:
+        result.set(spec.name, text);
+        break;
       case ParamType::boolean:
         if (text == "true" || text == "yes" || text == "on") result.set(spec.name, true);
         else if (text == "false" || text == "no" || text == "off") result.set(spec.name, false);
@@ -204,10 +267,7 @@ ParamSet ParamDict::resolve(const std::vector<ParamSpec>& specs, const std::stri
           result.set(spec.name, std::string("auto"));
           break;
         }
-        // Decimal only, as the YAML reader reads numbers: strtod alone would also take hex ("0x10"),
-        // leading blanks and "infinity", so that --set and a YAML file would disagree on what is a number.
-        static const std::regex decimal(R"([+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?)");
-        if (!std::regex_match(text, decimal))
+        if (!std::regex_match(text, decimal_number()))
           fail(std::string(spec.accepts_auto ? "auto or " : "") + (spec.type == ParamType::integer ? "an integer" : "a decimal number"));
         double number = std::strtod(text.c_str(), nullptr);
         if (!std::isfinite(number)) fail("a finite number");
@@ -229,8 +289,9 @@ ParamSet ParamDict::resolve(const std::vector<ParamSpec>& specs, const std::stri
 
 ParamSet select_phase(const ParamSet& all, const std::vector<ParamSpec>& specs, ParamPhase phase) {
   ParamSet result;
-  for (const ParamSpec& spec : specs) {
-    if (spec.phase == phase && all.has(spec.name)) result.set(spec.name, all.values().at(spec.name));
+  for (const auto& [key, value] : all.values()) {
+    const ParamSpec* spec = find_param_spec(specs, key);
+    if (spec && spec->phase == phase) result.set(key, value);
   }
   return result;
 }

@@ -19,7 +19,9 @@
 
 namespace causticbench {
 
-enum class ParamType { integer, real, boolean, choice };
+// `text`: any string (external's `command`). A family (ParamSpec::family) holds the knobs a method passes
+// on without knowing them: each value is typed by its text, as YAML reads it (see ParamSpec::family).
+enum class ParamType { integer, real, boolean, choice, text };
 // The three phases of a method's life (docs/design.md, "Knob phases"): build knobs feed prepare() and
 // are fixed for the life of a prepared instance; frame knobs feed update() (interpolation and blending
 // choices, per-frame sampling), so runs that differ only in them share one prepare(); render knobs
@@ -56,6 +58,12 @@ struct ParamSpec {
   // A numeric knob whose value is derived from the scene at prepare() unless set: it also takes the word
   // `auto` (its default), which the resolved ParamSet holds as the text "auto" (ParamSet::is_auto).
   bool accepts_auto = false;
+  // A family of knobs rather than one: `name` is a prefix ("program."), and every knob whose name is the
+  // prefix and a word (letters, digits, '_') belongs to it, with any value, typed by its text (an integer,
+  // a decimal number, true or false, or else text) and without a default. What a method passes on to a
+  // program it runs (external's `program.*`): the method cannot list the program's knobs, yet they are in
+  // the run key, sweeps and filters like any other.
+  bool family = false;
 
   static ParamSpec integer(std::string name, int64_t fallback, double min_value, double max_value, std::string meaning,
                            ParamPhase phase);
@@ -64,6 +72,12 @@ struct ParamSpec {
   static ParamSpec boolean(std::string name, bool fallback, std::string meaning, ParamPhase phase);
   static ParamSpec choice(std::string name, std::string fallback, std::vector<std::string> choices, std::string meaning,
                           ParamPhase phase);
+  static ParamSpec text(std::string name, std::string fallback, std::string meaning, ParamPhase phase);
+  // The family of knobs `prefix`<word> (see `family`).
+  static ParamSpec family_of(std::string prefix, std::string meaning, ParamPhase phase);
+
+  // Whether knob `key` is this knob, or a member of this family.
+  bool covers(const std::string& key) const;
 
   // Declares when the knob applies (see ParamCondition); returns *this for chaining on a factory.
   ParamSpec& only_when(std::string knob, std::vector<std::string> values);
@@ -81,6 +95,9 @@ struct ParamSpec {
 };
 
 std::string format_param_value(const ParamValue& value);
+
+// The spec of knob `key` among `specs` (the knob's own, or its family's), or nullptr.
+const ParamSpec* find_param_spec(const std::vector<ParamSpec>& specs, const std::string& key);
 
 // Resolved, typed knob values.
 class ParamSet {

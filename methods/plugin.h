@@ -14,8 +14,9 @@ namespace causticbench {
 
 // The SDK's version: raised whenever what crosses the boundary changes its layout or meaning (the
 // method interface, the registry entry, the headers docs/sdk.md lists). A plugin built against another
-// version is refused with both numbers.
-inline constexpr int kSdkVersion = 1;
+// version is refused with both numbers. 2: text knobs and knob families (ParamSpec::family,
+// ParamType::text) and MethodInfo::runs_a_program.
+inline constexpr int kSdkVersion = 2;
 // The C++ ABI of the compiler and standard library: classes cross the boundary by value.
 inline constexpr int kCompilerAbi = __GXX_ABI_VERSION * 10 + _GLIBCXX_USE_CXX11_ABI;
 

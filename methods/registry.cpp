@@ -6,6 +6,7 @@
 
 #include "methods/caustic_mapping/caustic_mapping.h"
 #include "methods/caustic_volume/caustic_volume.h"
+#include "methods/external/external.h"
 #include "methods/prt/prt.h"
 #include "methods/csl/csl.h"
 #include "methods/lpi/lpi.h"
@@ -34,6 +35,7 @@ std::vector<MethodEntry>& mutable_registry() {
       entry<CausticVolumeMethod>(),
       entry<PrtMethod>(),
       entry<RtPhotonsMethod>(),
+      entry<ExternalMethod>(),
   };
   return registry;
 }
@@ -61,6 +63,13 @@ ScopedMethodRegistration::~ScopedMethodRegistration() {
 std::vector<std::string> method_names() {
   std::vector<std::string> names;
   for (const MethodEntry& method : method_registry()) names.push_back(method.info().name);
+  return names;
+}
+
+std::vector<std::string> native_method_names() {
+  std::vector<std::string> names;
+  for (const MethodEntry& method : method_registry())
+    if (!method.info().runs_a_program) names.push_back(method.info().name);
   return names;
 }
 

@@ -20,6 +20,9 @@ struct MethodEntry {
 
 const std::vector<MethodEntry>& method_registry();
 std::vector<std::string> method_names();
+// The methods whose work is their own: every one but those that run a user's program
+// (MethodInfo::runs_a_program). What the registry-wide suites (conformance, capabilities) cover.
+std::vector<std::string> native_method_names();
 // Throws InputError naming the known methods (with "did you mean") for an unknown name.
 const MethodEntry& find_method(const std::string& name);
 std::unique_ptr<CausticMethod> create_method(const std::string& name);

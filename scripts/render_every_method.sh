@@ -23,6 +23,8 @@ out=${1:?usage: scripts/render_every_method.sh OUT [binary]}
 binary=${2:-build/apps/causticbench}
 methods=$("$binary" list | awk '/^Methods/ {on = 1; next} on && NF == 0 {exit} on {print $1}')
 for method in $methods; do
+  # external runs a program of yours: it has no quick setting to render with.
+  [ "$method" = external ] && continue
   knobs=()
   while IFS= read -r knob; do [ -n "$knob" ] && knobs+=(--set "$knob"); done < <("$binary" describe "$method" --quick-knobs)
   for scene in configs/scenes/*.yaml; do

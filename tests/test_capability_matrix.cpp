@@ -153,7 +153,7 @@ TEST(CapabilityMatrixExperiment, ValidatesAndStoresTheDeclarations) {
   // Judged at frame 1 with frame 0 played first, so that the moving cases move (tests/test_capabilities.cpp).
   EXPECT_EQ(matrix["frame"], 1);
   EXPECT_EQ(experiment.frames, (std::vector<int>{0, 1}));
-  for (const std::string& method : method_names()) {
+  for (const std::string& method : native_method_names()) {
     ASSERT_TRUE(matrix["declared"].contains(method)) << method;
     for (const auto& [name, value] : find_method(method).info().capabilities.entries())
       EXPECT_EQ(matrix["declared"][method]["capabilities"][name], value) << method << " " << name;

@@ -1,4 +1,4 @@
-// Shell words for the commands the command line writes or runs (`slurm`'s jobs, `conform`'s suite).
+// Shell words for the commands causticbench writes or runs (`slurm`'s jobs, `conform`'s suite, `external`'s program).
 #pragma once
 
 #include <string>

@@ -1,0 +1,75 @@
+#include "methods/external/command_template.h"
+
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "core/shell.h"
+
+namespace causticbench {
+
+const std::map<std::string, std::string>& command_placeholders() {
+  static const std::map<std::string, std::string> placeholders = {
+      {"scene", "the frame's scene, a causticbench scene file (scene.json)"},
+      {"world", "the frame in world space (world.json)"},
+      {"gbuffer", "the G-buffer to compute E_c at (gbuffer.exr)"},
+      {"out", "where the program writes E_c (an RGB EXR of the G-buffer's size)"},
+      {"stats", "where the program may write its timings and counters (JSON)"},
+      {"folder", "the folder of these files"},
+      {"frame", "the frame index"},
+      {"width", "the G-buffer's width in pixels"},
+      {"height", "the G-buffer's height in pixels"},
+      {"causticbench", "the causticbench executable that runs the sweep"},
+  };
+  return placeholders;
+}
+
+std::string expand_command(const std::string& command, const std::map<std::string, std::string>& values) {
+  std::string result;
+  for (size_t i = 0; i < command.size(); ++i) {
+    const char c = command[i];
+    if ((c == '{' || c == '}') && i + 1 < command.size() && command[i + 1] == c) {
+      result += c;
+      ++i;
+      continue;
+    }
+    if (c == '}') throw std::invalid_argument(fmt::format("a '}}' at character {} without its '{{' (write '}}}}' for a brace)", i + 1));
+    if (c != '{') {
+      result += c;
+      continue;
+    }
+    const size_t close = command.find('}', i + 1);
+    if (close == std::string::npos)
+      throw std::invalid_argument(fmt::format("a '{{' at character {} without its '}}' (write '{{{{' for a brace)", i + 1));
+    const std::string name = command.substr(i + 1, close - i - 1);
+    auto it = values.find(name);
+    if (it == values.end()) throw std::invalid_argument(fmt::format("an unknown placeholder {{{}}}", name));
+    result += shell_quoted(it->second);
+    i = close;
+  }
+  return result;
+}
+
+std::string command_problem(const std::string& command, const std::map<std::string, std::string>& knobs) {
+  if (command.find_first_not_of(" \t\n") == std::string::npos)
+    return "set `command`, the program to run for each frame, for example \"python3 my_renderer.py {scene} {gbuffer} {out}\"";
+  std::map<std::string, std::string> values = knobs;
+  std::vector<std::string> known;
+  for (const auto& [name, meaning] : command_placeholders()) {
+    values[name] = name;
+    known.push_back("{" + name + "}");
+  }
+  for (const auto& [name, value] : knobs) known.push_back("{" + name + "}");
+  try {
+    expand_command(command, values);
+  } catch (const std::invalid_argument& error) {
+    return fmt::format("`command` has {}; it may use {}", error.what(), join(known, ", "));
+  }
+  if (command.find("{out}") == std::string::npos)
+    return "`command` must pass {out}, where the program writes its E_c image";
+  return "";
+}
+
+}  // namespace causticbench

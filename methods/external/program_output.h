@@ -1,0 +1,27 @@
+// What external's program hands back, checked before anything of it is measured: the E_c image (an EXR
+// of the G-buffer's size, R, G, B finite and non-negative) and the optional statistics file.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/image.h"
+
+namespace causticbench {
+
+// The program's E_c (its R, G, B channels). Throws std::runtime_error saying what is wrong: no file, not a
+// readable EXR, another size, fewer than three channels, or the first pixel that is not finite or is
+// negative, with its coordinates and channel.
+Image read_program_image(const std::string& path, int width, int height);
+
+// The statistics file, when the program wrote one:
+//   {"time_ms": 12.5,                         its own time for the frame (the counter reported_ms)
+//    "timings_ms": {"trace": 8.1, ...},       any named timings, milliseconds
+//    "counters": {"photons": 100000, ...}}    any named counts
+// every key optional, every value a finite number >= 0. Nothing when there is no file; std::runtime_error
+// naming the key when it is not JSON, has an unknown key or a value that is not such a number.
+std::optional<nlohmann::json> read_program_statistics(const std::string& path);
+
+}  // namespace causticbench

@@ -1,0 +1,243 @@
+// external (methods/external/): its command template, the program knobs it passes through, and the
+// method run by `causticbench run` next to photon_map: causticbench itself as the program, rendering
+// photon_map on each exported frame, gives the in-process photon_map's images bit for bit; a program that
+// exits 1, writes NaN, a negative value, the wrong size, no image or malformed statistics, or hangs past
+// its timeout, fails its run with the reason and its stderr, and the rest of the sweep completes.
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/files.h"
+#include "core/image.h"
+#include "methods/describe.h"
+#include "methods/external/command_template.h"
+#include "methods/param_dict.h"
+#include "methods/registry.h"
+#include "tests/test_support.h"
+
+namespace causticbench {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+TEST(ExternalCommand, FillsPlaceholdersShellQuoted) {
+  EXPECT_EQ(expand_command("render {scene} > {out} {{x}}", {{"scene", "a b'c.json"}, {"out", "/tmp/o.exr"}}),
+            "render 'a b'\\''c.json' > '/tmp/o.exr' {x}");
+  EXPECT_EQ(expand_command("run --photons {program.photons} {out}", {{"program.photons", "1000"}, {"out", "o"}}),
+            "run --photons '1000' 'o'");
+  EXPECT_THROW(expand_command("run {sceen}", {{"scene", "s"}}), std::invalid_argument);
+  EXPECT_THROW(expand_command("run {scene", {{"scene", "s"}}), std::invalid_argument);
+  EXPECT_THROW(expand_command("run scene}", {{"scene", "s"}}), std::invalid_argument);
+}
+
+TEST(ExternalCommand, ProblemsNameWhatIsWrong) {
+  EXPECT_EQ(command_problem("python3 r.py {scene} {gbuffer} {out}", {}), "");
+  EXPECT_EQ(command_problem("r {out} --k {program.k}", {{"program.k", "3"}}), "");
+  EXPECT_NE(command_problem("", {}).find("set `command`"), std::string::npos);
+  const std::string unknown = command_problem("r {sceen} {out}", {});
+  EXPECT_NE(unknown.find("unknown placeholder {sceen}"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("{scene}"), std::string::npos) << unknown;
+  EXPECT_NE(command_problem("r {out} {program.k}", {}).find("{program.k}"), std::string::npos);
+  EXPECT_NE(command_problem("r {scene}", {}).find("{out}"), std::string::npos);
+}
+
+// A family of knobs resolves what it is given, typed by its text; other unknown keys are still refused.
+TEST(ExternalKnobs, ProgramKnobsAreTypedByTheirText) {
+  const std::vector<ParamSpec>& specs = find_method("external").info().params;
+  ParamDict dict;
+  for (const char* assignment : {"command=r {out}", "program.photons=1000", "program.radius=0.25", "program.fast=true",
+                                 "program.mode=splat"})
+    dict.set_assignment(assignment, "test");
+  const ParamSet knobs = dict.resolve(specs, "external");
+  EXPECT_EQ(knobs.integer("program.photons"), 1000);
+  EXPECT_EQ(knobs.real("program.radius"), 0.25);
+  EXPECT_TRUE(knobs.boolean("program.fast"));
+  EXPECT_EQ(knobs.text("program.mode"), "splat");
+  EXPECT_EQ(knobs.to_json()["program.photons"], 1000);
+  EXPECT_EQ(select_phase(knobs, specs, ParamPhase::build).values().size(), knobs.values().size());
+  for (const char* wrong : {"photons=1000", "program.=3", "program.a-b=3"}) {
+    ParamDict bad;
+    bad.set_assignment(wrong, "test");
+    EXPECT_THROW(bad.resolve(specs, "external"), InputError) << wrong;
+  }
+}
+
+// The registry-wide conformance suite leaves external out (it has no program to give it); its README's
+// table is checked here as the suite checks every other method's.
+TEST(ExternalReadme, OpensWithDescribeMarkdown) {
+  const std::string readme = read_text(std::string(CAUSTICBENCH_SOURCE_DIR) + "/methods/external/README.md");
+  const std::string generated = describe_markdown(find_method("external").info());
+  EXPECT_EQ(readme.substr(0, generated.size()), generated) << "regenerate it with `causticbench describe external --markdown`";
+}
+
+std::string causticbench_command(const std::string& arguments) { return std::string(CAUSTICBENCH_BINARY) + " " + arguments; }
+
+class ExternalRuns : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder.write("scene.yaml", testing::replace_once(testing::small_glass_sphere_turning(), "resolution: [40, 40]",
+                                                     "resolution: [24, 20]"));
+    fs::create_directories(folder.path("tmp"));
+  }
+  // `causticbench run` on `file`, its programs' folders under tmp/ (TMPDIR).
+  int run(const std::string& file, std::string& output) const {
+    return testing::run_command("TMPDIR=" + folder.path("tmp") + " " +
+                                    causticbench_command("run " + file + " --results " + folder.path("results")),
+                                output);
+  }
+  std::string experiment(const std::string& name, const std::string& methods) const {
+    return folder.write(name + ".yaml", "name: " + name + R"(
+scene: scene.yaml
+frames: [0, 1]
+reference: {photons_per_pass: 100000, max_passes: 2, target_error: 0}
+repetitions: 1
+methods:
+)" + methods);
+  }
+  std::vector<json> records(const std::string& name) const {
+    std::vector<json> found;
+    for (const auto& entry : fs::directory_iterator(folder.path("results") + "/" + name + "/runs")) {
+      json record = json::parse(read_text((entry.path() / "record.json").string()));
+      record["folder"] = entry.path().string();
+      found.push_back(record);
+    }
+    return found;
+  }
+  testing::TemporaryFolder folder{std::string("external_") + ::testing::UnitTest::GetInstance()->current_test_info()->name()};
+};
+
+// causticbench itself as the program: `render --method photon_map` on each exported frame reproduces the
+// in-process photon_map bit for bit, on both frames of a turning sun.
+TEST_F(ExternalRuns, CausticbenchAsTheProgramReproducesPhotonMapBitForBit) {
+  const std::string file = experiment("through_a_program", R"(
+  - method: photon_map
+    build: {photons: 20000, seed: 3}
+  - method: external
+    build:
+      command: "{causticbench} render {scene} --method photon_map --set photons=20000 --set seed=3 --out {folder}/render --quiet && cp {folder}/render/caustic.exr {out}"
+)");
+  std::string output;
+  ASSERT_EQ(run(file, output), 0) << output;
+  EXPECT_NE(output.find("2 run now, 0 failed"), std::string::npos) << output;
+  const std::vector<json> found = records("through_a_program");
+  ASSERT_EQ(found.size(), 2u);
+  const json& in_process = found[0]["method"] == "photon_map" ? found[0] : found[1];
+  const json& external = found[0]["method"] == "photon_map" ? found[1] : found[0];
+  ASSERT_EQ(external["status"], "ok") << external.dump(1);
+  for (const char* image : {"frame_0000.exr", "frame_0001.exr"}) {
+    EXPECT_EQ(external["images"][image]["xxhash"], in_process["images"][image]["xxhash"]) << image;
+    const Image a = read_exr(in_process["folder"].get<std::string>() + "/" + image);
+    const Image b = read_exr(external["folder"].get<std::string>() + "/" + image);
+    ASSERT_EQ(a.values().size(), b.values().size());
+    EXPECT_EQ(a.values(), b.values()) << image;
+    double sum = 0.0;
+    for (float value : a.values()) sum += value;
+    EXPECT_GT(sum, 0.0) << image << ": no caustic to compare";
+  }
+  // The program's time and peak size per frame are in the record.
+  ASSERT_EQ(external["method_record"]["program"].size(), 2u) << external.dump(1);
+  EXPECT_GT(external["method_record"]["program"][0]["seconds"].get<double>(), 0.0);
+  EXPECT_GT(external["memory_bytes"].get<double>(), 0.0);
+  EXPECT_TRUE(fs::is_empty(folder.path("tmp"))) << "the programs' folders of finished runs are removed";
+}
+
+// Each failure is a failed run saying why, with the program's stderr; the other runs of the sweep finish.
+TEST_F(ExternalRuns, FailingProgramsFailTheirRunsAndTheSweepCompletes) {
+  const std::string fake = CAUSTICBENCH_FAKE_RENDERER;
+  const std::string file = experiment("failures", R"(
+  - method: photon_map
+    build: {photons: 20000}
+  - method: external
+    build: {timeout_seconds: 1}
+    sweep:
+      command:
+        - "echo the renderer broke >&2; exit 1 # {out}"
+        - ")" + fake + R"( nan {out} {width} {height}"
+        - ")" + fake + R"( negative {out} {width} {height}"
+        - ")" + fake + R"( wrong_size {out} {width} {height}"
+        - ")" + fake + R"( bad_statistics {out} {width} {height} 1 {stats}"
+        - "true {out}"
+        - "echo waiting >&2; sleep 30 # {out}"
+  - method: external
+    label: constant
+    build: {command: ")" + fake + R"( constant {out} {width} {height} {program.value} {stats}"}
+    sweep: {program.value: [0.5, 2]}
+)");
+  std::string output;
+  const auto start = std::chrono::steady_clock::now();
+  ASSERT_EQ(run(file, output), 0) << output;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 25.0)
+      << "the hanging program must be killed at its timeout, not waited for";
+  EXPECT_NE(output.find("3 run now, 7 failed"), std::string::npos) << output;
+  std::map<std::string, std::string> errors;
+  size_t ok = 0;
+  for (const json& record : records("failures")) {
+    if (record["status"] == "ok") {
+      ++ok;
+      if (record["method"] != "external") continue;
+      // The program knob reached the program (its image is its value) and its statistics the record.
+      const double value = record["build"]["program.value"].get<double>();
+      const Image image = read_exr(record["folder"].get<std::string>() + "/frame_0000.exr");
+      float largest = 0.0f;
+      for (float v : image.values()) largest = std::max(largest, v);
+      EXPECT_EQ(largest, static_cast<float>(value));
+      EXPECT_EQ(record["counters"]["reported_ms"].get<double>(), value);
+      EXPECT_EQ(record["method_record"]["program"][1]["counters"]["value"].get<double>(), value);
+      continue;
+    }
+    errors[record["build"]["command"].get<std::string>()] = record["error"].get<std::string>();
+  }
+  EXPECT_EQ(ok, 3u);
+  ASSERT_EQ(errors.size(), 7u) << output;
+  auto error_of = [&](const std::string& start) {
+    for (const auto& [command, error] : errors)
+      if (command.rfind(start, 0) == 0) return error;
+    return std::string("no run of ") + start;
+  };
+  auto expect_in = [](const std::string& error, const std::string& part) {
+    EXPECT_NE(error.find(part), std::string::npos) << "expected '" << part << "' in: " << error;
+  };
+  expect_in(error_of("echo the renderer"), "exited with status 1");
+  expect_in(error_of("echo the renderer"), "the renderer broke");
+  expect_in(error_of(fake + " nan"), "pixel (1, 2) channel G is nan");
+  expect_in(error_of(fake + " nan"), "fake_renderer nan wrote");  // its stderr
+  expect_in(error_of(fake + " negative"), "pixel (0, 0) channel R is -0.5");
+  expect_in(error_of(fake + " wrong_size"), "is 25x20, expected 24x20");
+  expect_in(error_of(fake + " bad_statistics"), "time_ms is \"fast\"");
+  expect_in(error_of("true"), "wrote no image");
+  expect_in(error_of("echo waiting"), "ran past its timeout of 1 s and was killed");
+  expect_in(error_of("echo waiting"), "waiting");
+  // A failed frame's files stay, with the command to rerun it.
+  const std::string error = error_of("echo the renderer");
+  const size_t kept = error.find("kept in ");
+  ASSERT_NE(kept, std::string::npos) << error;
+  const std::string kept_folder = error.substr(kept + 8, error.find(' ', kept + 8) - kept - 8);
+  EXPECT_TRUE(fs::is_regular_file(kept_folder + "/command.sh")) << kept_folder;
+  EXPECT_TRUE(fs::is_regular_file(kept_folder + "/scene.json")) << kept_folder;
+  EXPECT_TRUE(fs::is_regular_file(kept_folder + "/gbuffer.exr")) << kept_folder;
+}
+
+// A command that is missing, names an unknown placeholder or lacks {out} is refused before any work,
+// exit 2, with the file and what is wrong; nothing is stored.
+TEST_F(ExternalRuns, DefectiveCommandsAreRefusedBeforeAnyWork) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"  - method: external\n", "set `command`"},
+      {"  - method: external\n    build: {command: \"r {sceen} {out}\"}\n", "unknown placeholder {sceen}"},
+      {"  - method: external\n    build: {command: \"r {scene}\"}\n", "must pass {out}"},
+      {"  - method: external\n    build: {command: \"r {out}\", photons: 3}\n", "unknown parameter 'photons'"},
+  };
+  for (const auto& [methods, message] : cases) {
+    const std::string file = experiment("defective", methods);
+    std::string output;
+    EXPECT_EQ(run(file, output), 2) << output;
+    EXPECT_NE(output.find(message), std::string::npos) << output;
+    EXPECT_NE(output.find("defective.yaml"), std::string::npos) << output;
+    EXPECT_FALSE(fs::exists(folder.path("results") + "/defective/runs")) << methods;
+  }
+}
+
+}  // namespace
+}  // namespace causticbench
