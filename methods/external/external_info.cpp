@@ -1,6 +1,4 @@
 // external's declarations: its knobs, capabilities and counters (README.md's table is generated from them).
-#include <fmt/format.h>
-
 #include "methods/external/command_template.h"
 #include "methods/external/external.h"
 

@@ -2,7 +2,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -52,30 +52,32 @@ double tree_peak_bytes(pid_t pid, int depth = 0) {
 
 ProgramExit run_program(const std::string& command, const std::string& stdout_path, const std::string& stderr_path,
                         double timeout_seconds) {
-  // posix_spawn rather than fork: the sweep's process has worker threads, and posix_spawn does only what
-  // is safe between fork and exec.
-  posix_spawn_file_actions_t actions;
-  posix_spawnattr_t attributes;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawnattr_init(&attributes);
-  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 1, stdout_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&actions, 2, stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  // A group of its own: the timeout kills the shell and everything it started, and the terminal's
-  // Ctrl-C reaches causticbench, which then stops as it always does.
-  posix_spawnattr_setpgroup(&attributes, 0);
-  sigset_t default_signals;
-  sigemptyset(&default_signals);
-  sigaddset(&default_signals, SIGPIPE);
-  posix_spawnattr_setsigdefault(&attributes, &default_signals);
-  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGDEF);
+  // Everything the child needs is made before fork: between fork and exec a child of a process with
+  // worker threads may only make system calls.
   std::vector<char*> arguments = {const_cast<char*>("sh"), const_cast<char*>("-c"), const_cast<char*>(command.c_str()), nullptr};
-  pid_t pid = 0;
+  const pid_t parent = getpid();
   const auto start = std::chrono::steady_clock::now();
-  const int spawned = posix_spawn(&pid, "/bin/sh", &actions, &attributes, arguments.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  posix_spawnattr_destroy(&attributes);
-  if (spawned != 0) throw std::runtime_error(fmt::format("cannot start /bin/sh: {}", os_error_text(spawned)));
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error(fmt::format("cannot start /bin/sh: {}", os_error_text(errno)));
+  if (pid == 0) {
+    // A group of its own, so that the timeout kills the shell and everything it started; and killed with
+    // causticbench (PR_SET_PDEATHSIG), so that a sweep stopped by Ctrl-C or a kill leaves no program
+    // running on (the shell, or the program it execs; what a compound command forks lives on).
+    setpgid(0, 0);
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(127);  // causticbench died before the line above
+    signal(SIGPIPE, SIG_DFL);
+    const int input = open("/dev/null", O_RDONLY);
+    const int output = open(stdout_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int errors = open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (input < 0 || output < 0 || errors < 0) _exit(126);
+    dup2(input, 0);
+    dup2(output, 1);
+    dup2(errors, 2);
+    execve("/bin/sh", arguments.data(), environ);
+    _exit(127);
+  }
+  setpgid(pid, pid);  // also here, so that the group exists whichever of the two runs first
 
   ProgramExit exit;
   int status = 0;
