@@ -197,6 +197,9 @@ int main(int argc, char** argv) {
   } catch (const InputError& error) {
     fmt::print(stderr, "error: {}\n", error.what());
     return 2;
+  } catch (const ProgramError& error) {
+    fmt::print(stderr, "error: {}\n", error.what());
+    return 1;
   } catch (const WriteError& error) {
     // The environment's fault (a full disk, a folder made read-only), not the input's nor a bug.
     fmt::print(stderr, "error: {}\n", error.what());

@@ -25,6 +25,14 @@ class InputError : public std::runtime_error {
   explicit InputError(const std::string& message) : std::runtime_error(message) {}
 };
 
+// A program a run hands its work to (the external method's) failed: neither a defect of the input, found
+// before any work, nor a bug of causticbench. `render` says so and exits with 1; a sweep records the run
+// as failed with the message.
+class ProgramError : public std::runtime_error {
+ public:
+  explicit ProgramError(const std::string& message) : std::runtime_error(message) {}
+};
+
 [[noreturn]] void throw_input_error(const SourceLocation& where, std::string_view key, std::string_view expected,
                                     std::string_view found);
 

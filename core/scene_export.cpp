@@ -146,11 +146,24 @@ json matrix_rows(const glm::dmat4& matrix) {
   return rows;
 }
 
+// world.json's name of a light kind (scene.json writes the scene format's `type` and `procedural`).
+const char* world_light_type(LightKind kind) {
+  switch (kind) {
+    case LightKind::directional: return "directional";
+    case LightKind::point: return "point";
+    case LightKind::environment_image: return "environment_image";
+    case LightKind::gaussian_spot: return "gaussian_spot";
+  }
+  return "?";
+}
+
 json posed_light(const LightFrame& posed) {
   const Light& light = *posed.light;
-  json result = {{"type", light_kind_name(light.kind)}};
+  json result = {{"type", world_light_type(light.kind)}};
   if (!light.name.empty()) result["name"] = light.name;
-  if (light.is_distant()) result["direction_to_light"] = vec(posed.direction_to_light);
+  // A direction for the lights that have one: an image environment has the whole sphere.
+  if (light.kind == LightKind::directional || light.kind == LightKind::gaussian_spot)
+    result["direction_to_light"] = vec(posed.direction_to_light);
   switch (light.kind) {
     case LightKind::directional:
       result.update({{"irradiance", rgb(light.irradiance)}, {"solid_angle_sr", light.solid_angle}, {"cos_cone", posed.cos_cone}});
@@ -229,7 +242,8 @@ std::string SceneExporter::write(const SceneFrame& frame) {
 
   const json camera = camera_json(scene.camera, frame.frame);
   json scene_file = {{"name", scene.name}, {"frames", 1}, {"camera", camera}, {"lights", lights}, {"objects", objects}};
-  json world_file = {{"frame", frame.frame},
+  const json frame_index = frame.frame == std::floor(frame.frame) ? json(static_cast<int64_t>(frame.frame)) : json(frame.frame);
+  json world_file = {{"frame", frame_index},
                      {"scene", "scene.json"},
                      {"camera", camera},
                      {"lights", posed_lights},

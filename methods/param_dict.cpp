@@ -190,6 +190,10 @@ ParamValue typed_by_text(const std::string& text) {
   if (std::regex_match(text, whole)) return static_cast<int64_t>(std::stoll(text));
   if (std::regex_match(text, decimal_number())) {
     double number = std::strtod(text.c_str(), nullptr);
+    // One number, one value: 1e4, 10000.0 and 10000 are the integer 10000 (the same key, and the same
+    // text for the program that receives it).
+    if (std::isfinite(number) && number == std::floor(number) && std::abs(number) < 9007199254740992.0)
+      return static_cast<int64_t>(number);
     if (std::isfinite(number)) return number;
   }
   return text;
@@ -210,7 +214,7 @@ ParamSet ParamDict::resolve(const std::vector<ParamSpec>& specs, const std::stri
   ParamSet result;
   for (const ParamSpec& spec : specs) {
     if (spec.family) {
-      // Its members as set; typed by their text as YAML types a scalar, so that a swept program knob is
+      // Its members as set; typed by their text (ParamSpec::family), so that a swept program knob is
       // a number in the run key, a claim's x and a filter.
       for (const auto& [key, entry] : entries_)
         if (spec.covers(key)) result.set(key, typed_by_text(entry.text));

@@ -20,7 +20,7 @@
 namespace causticbench {
 
 // `text`: any string (external's `command`). A family (ParamSpec::family) holds the knobs a method passes
-// on without knowing them: each value is typed by its text, as YAML reads it (see ParamSpec::family).
+// on without knowing them: each value is typed by its text (see ParamSpec::family).
 enum class ParamType { integer, real, boolean, choice, text };
 // The three phases of a method's life (docs/design.md, "Knob phases"): build knobs feed prepare() and
 // are fixed for the life of a prepared instance; frame knobs feed update() (interpolation and blending
@@ -59,10 +59,11 @@ struct ParamSpec {
   // `auto` (its default), which the resolved ParamSet holds as the text "auto" (ParamSet::is_auto).
   bool accepts_auto = false;
   // A family of knobs rather than one: `name` is a prefix ("program."), and every knob whose name is the
-  // prefix and a word (letters, digits, '_') belongs to it, with any value, typed by its text (an integer,
-  // a decimal number, true or false, or else text) and without a default. What a method passes on to a
-  // program it runs (external's `program.*`): the method cannot list the program's knobs, yet they are in
-  // the run key, sweeps and filters like any other.
+  // prefix and a word (letters, digits, '_') belongs to it, with any value and without a default. Each
+  // value is typed by its text: an integral number (7, 1e4, 2.0) is an integer, another decimal number a
+  // real, true and false booleans, anything else text; so that equal numbers are one value. What a
+  // method passes on to a program it runs (external's `program.*`): the method cannot list the program's
+  // knobs, yet they are in the run key, sweeps and filters like any other.
   bool family = false;
 
   static ParamSpec integer(std::string name, int64_t fallback, double min_value, double max_value, std::string meaning,

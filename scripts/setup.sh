@@ -10,7 +10,7 @@ packages=(
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtbb-dev libassimp-dev
   libnanoflann-dev libpcg-cpp-dev libxxhash-dev libgtest-dev libgmock-dev libeigen3-dev
   glmark2-data blender-data embree-tools
-  python3-numpy
+  python3-numpy python3-openimageio
   slurm-wlm munge
   chromium
 )

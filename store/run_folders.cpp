@@ -57,7 +57,10 @@ void store_run_folder(const std::string& run_folder, const std::vector<std::pair
   }
   record["images"] = checksums;
   // The record last: a folder is a run only with it, and it names what the images must be.
-  write_text_atomically((fs::path(staging.path()) / "record.json").string(), record.dump(2) + "\n");
+  // A message that is not UTF-8 (a program's stderr in an error) is stored with U+FFFD where it is not,
+  // rather than lose the run.
+  write_text_atomically((fs::path(staging.path()) / "record.json").string(),
+                        record.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   staging.commit();
 }
 

@@ -62,12 +62,16 @@ std::string command_problem(const std::string& command, const std::map<std::stri
     known.push_back("{" + name + "}");
   }
   for (const auto& [name, value] : knobs) known.push_back("{" + name + "}");
+  // {out} filled in with a word no command holds otherwise, to see that it is a placeholder ({{out}} is not).
+  const std::string marker = "\x01out\x01";
+  values["out"] = marker;
+  std::string expanded;
   try {
-    expand_command(command, values);
+    expanded = expand_command(command, values);
   } catch (const std::invalid_argument& error) {
     return fmt::format("`command` has {}; it may use {}", error.what(), join(known, ", "));
   }
-  if (command.find("{out}") == std::string::npos)
+  if (expanded.find(marker) == std::string::npos)
     return "`command` must pass {out}, where the program writes its E_c image";
   return "";
 }

@@ -7,7 +7,9 @@
 #include <fmt/format.h>
 
 #include "core/assets.h"
+#include "core/errors.h"
 #include "core/files.h"
+#include "core/shell.h"
 #include "methods/external/command_template.h"
 #include "methods/external/program_output.h"
 #include "methods/external/program_process.h"
@@ -40,7 +42,29 @@ void ExternalMethod::begin_sequence() {
 void ExternalMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
   frame_ = static_cast<int>(frame.frame.frame);
   exporter_->write(frame.frame);
+  // Under pixel_samples the frame's program runs once per sub-pixel G-buffer: its figures add up.
+  reports_[frame_] = {{"frame", frame_}, {"runs", 0}, {"seconds", 0.0}, {"peak_bytes", 0.0}};
 }
+
+namespace {
+
+// Adds what one run of the program took and reported to its frame's report.
+void add_run(nlohmann::json& report, double seconds, double peak_bytes, const std::optional<nlohmann::json>& statistics) {
+  report["runs"] = report["runs"].get<int>() + 1;
+  report["seconds"] = report["seconds"].get<double>() + seconds;
+  report["peak_bytes"] = std::max(report["peak_bytes"].get<double>(), peak_bytes);
+  if (!statistics) return;
+  if (statistics->contains("time_ms"))
+    report["time_ms"] = report.value("time_ms", 0.0) + statistics->at("time_ms").get<double>();
+  for (const char* group : {"timings_ms", "counters"}) {
+    if (!statistics->contains(group)) continue;
+    nlohmann::json& sums = report[group];
+    if (!sums.is_object()) sums = nlohmann::json::object();
+    for (const auto& [name, value] : statistics->at(group).items()) sums[name] = sums.value(name, 0.0) + value.get<double>();
+  }
+}
+
+}  // namespace
 
 std::string ExternalMethod::fail(const std::string& reason, const std::string& stderr_path) {
   keep_folder_ = true;
@@ -69,21 +93,20 @@ Image ExternalMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
   for (const auto& [name, value] : build_.values())
     if (name.rfind("program.", 0) == 0) values[name] = format_param_value(value);
   const std::string command = expand_command(build_.text("command"), values);
-  write_text_atomically(folder_ + "/command.sh", command + "\n");
+  // To rerun the frame by hand: from the folder the sweep ran in, where relative paths of the command lead.
+  write_text_atomically(folder_ + "/command.sh", "cd " + shell_quoted(fs::current_path().string()) + "\n" + command + "\n");
   const double timeout = build_.real("timeout_seconds");
   const ProgramExit exit = run_program(command, folder_ + "/stdout.txt", stderr_path, timeout);
-  if (!exit.succeeded()) throw std::runtime_error(fail(exit.describe(timeout), stderr_path));
+  if (!exit.succeeded()) throw ProgramError(fail(exit.describe(timeout), stderr_path));
   Image image;
   std::optional<nlohmann::json> statistics;
   try {
     image = read_program_image(out, gbuffer.width, gbuffer.height);
     statistics = read_program_statistics(statistics_path);
   } catch (const std::runtime_error& error) {
-    throw std::runtime_error(fail("exited with status 0, but " + std::string(error.what()), stderr_path));
+    throw ProgramError(fail("exited with status 0, but " + std::string(error.what()), stderr_path));
   }
-  nlohmann::json report = {{"frame", frame_}, {"seconds", exit.seconds}, {"peak_bytes", exit.peak_bytes}};
-  if (statistics) report.update(*statistics);
-  reports_[frame_] = report;
+  add_run(reports_[frame_], exit.seconds, exit.peak_bytes, statistics);
   peak_bytes_ = std::max(peak_bytes_, exit.peak_bytes);
   return image;
 }
@@ -94,17 +117,21 @@ Counters ExternalMethod::counters() const {
   // The program's own time, where it reported one for every frame: beside render_ms, which also pays for
   // starting the process and reading and writing the files.
   double sum = 0.0;
+  size_t frames = 0;
   for (const auto& [frame, report] : reports_) {
+    if (report["runs"].get<int>() == 0) continue;  // updated, not yet rendered
     if (!report.contains("time_ms")) return {};
     sum += report["time_ms"].get<double>();
+    ++frames;
   }
-  if (reports_.empty()) return {};
-  return {{"reported_ms", sum / static_cast<double>(reports_.size())}};
+  if (frames == 0) return {};
+  return {{"reported_ms", sum / static_cast<double>(frames)}};
 }
 
 nlohmann::json ExternalMethod::record() const {
   nlohmann::json frames = nlohmann::json::array();
-  for (const auto& [frame, report] : reports_) frames.push_back(report);
+  for (const auto& [frame, report] : reports_)
+    if (report["runs"].get<int>() > 0) frames.push_back(report);
   return {{"program", frames}};
 }
 

@@ -2,10 +2,13 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <poll.h>
 #include <sys/prctl.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -50,63 +53,162 @@ double tree_peak_bytes(pid_t pid, int depth = 0) {
 
 }  // namespace
 
+namespace {
+
+// Waits up to `milliseconds` for the child to exit, without reaping it (a zombie keeps its process group
+// alive, so that killing the group afterwards cannot reach a reused one). A pidfd wakes the moment it
+// exits; without one (kernels before 5.3) it sleeps.
+bool exited_within(pid_t pid, int pidfd, int milliseconds) {
+  siginfo_t info{};
+  if (pidfd >= 0) {
+    pollfd wait{pidfd, POLLIN, 0};
+    poll(&wait, 1, milliseconds);
+  } else {
+    std::this_thread::sleep_for(std::chrono::milliseconds(milliseconds));
+  }
+  while (waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) < 0) {
+    if (errno != EINTR) throw std::runtime_error(fmt::format("cannot wait for the program: {}", os_error_text(errno)));
+  }
+  return info.si_pid == pid;
+}
+
+}  // namespace
+
 ProgramExit run_program(const std::string& command, const std::string& stdout_path, const std::string& stderr_path,
                         double timeout_seconds) {
   // Everything the child needs is made before fork: between fork and exec a child of a process with
   // worker threads may only make system calls.
   std::vector<char*> arguments = {const_cast<char*>("sh"), const_cast<char*>("-c"), const_cast<char*>(command.c_str()), nullptr};
   const pid_t parent = getpid();
+  // Closed by the exec: the parent reads until then, so that it never samples the child's memory before
+  // the exec (a forked child's peak is causticbench's), and learns why the exec failed if it did.
+  int started[2];
+  if (pipe2(started, O_CLOEXEC) != 0) throw std::runtime_error(fmt::format("cannot start /bin/sh: {}", os_error_text(errno)));
   const auto start = std::chrono::steady_clock::now();
   const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error(fmt::format("cannot start /bin/sh: {}", os_error_text(errno)));
+  if (pid < 0) {
+    const int error = errno;
+    close(started[0]);
+    close(started[1]);
+    throw std::runtime_error(fmt::format("cannot start /bin/sh: {}", os_error_text(error)));
+  }
   if (pid == 0) {
     // A group of its own, so that the timeout kills the shell and everything it started; and killed with
     // causticbench (PR_SET_PDEATHSIG), so that a sweep stopped by Ctrl-C or a kill leaves no program
     // running on (the shell, or the program it execs; what a compound command forks lives on).
+    close(started[0]);
     setpgid(0, 0);
     prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (getppid() != parent) _exit(127);  // causticbench died before the line above
     signal(SIGPIPE, SIG_DFL);
-    const int input = open("/dev/null", O_RDONLY);
-    const int output = open(stdout_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int errors = open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (input < 0 || output < 0 || errors < 0) _exit(126);
-    dup2(input, 0);
-    dup2(output, 1);
-    dup2(errors, 2);
+    const int files[3] = {open("/dev/null", O_RDONLY), open(stdout_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644),
+                          open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644)};
+    for (int target = 0; target < 3; ++target) {
+      if (files[target] < 0 || dup2(files[target], target) < 0) {
+        const int error = errno;
+        (void)!write(started[1], &error, sizeof error);
+        _exit(126);
+      }
+    }
+    for (int file : files)
+      if (file > 2) close(file);
     execve("/bin/sh", arguments.data(), environ);
+    const int error = errno;
+    (void)!write(started[1], &error, sizeof error);
     _exit(127);
   }
   setpgid(pid, pid);  // also here, so that the group exists whichever of the two runs first
+  close(started[1]);
+  int child_error = 0;
+  ssize_t got = 0;
+  while ((got = read(started[0], &child_error, sizeof child_error)) < 0 && errno == EINTR) {
+  }
+  close(started[0]);
+  if (got > 0) {
+    int ignored = 0;
+    waitpid(pid, &ignored, 0);
+    throw std::runtime_error(fmt::format("cannot start /bin/sh for the program: {}", os_error_text(child_error)));
+  }
 
   ProgramExit exit;
-  int status = 0;
+  const int pidfd = static_cast<int>(syscall(SYS_pidfd_open, pid, 0));
   const auto deadline = start + std::chrono::duration<double>(timeout_seconds);
-  auto pause = std::chrono::microseconds(200);
-  for (;;) {
-    const pid_t done = waitpid(pid, &status, WNOHANG);
-    if (done == pid) break;
-    if (done < 0 && errno != EINTR) throw std::runtime_error(fmt::format("cannot wait for the program: {}", os_error_text(errno)));
-    if (std::chrono::steady_clock::now() >= deadline) {
-      kill(-pid, SIGKILL);
-      while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  try {
+    // Sampled every 10 ms at most; the pidfd ends the wait the moment the program exits, so that its
+    // time is not rounded up to the next sample.
+    for (int wait = 1;; wait = std::min(wait * 2, 10)) {
+      exit.peak_bytes = std::max(exit.peak_bytes, tree_peak_bytes(pid));
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
+      if (exited_within(pid, pidfd, static_cast<int>(std::clamp<long long>(left, 0, wait)))) break;
+      if (std::chrono::steady_clock::now() >= deadline) {
+        exit.timed_out = true;
+        break;
       }
-      exit.timed_out = true;
-      break;
     }
-    exit.peak_bytes = std::max(exit.peak_bytes, tree_peak_bytes(pid));
-    // Polled, in steps growing to 10 ms: a frame's program that takes a millisecond is not charged 10.
-    std::this_thread::sleep_for(pause);
-    pause = std::min(pause * 2, std::chrono::microseconds(10000));
+  } catch (...) {
+    kill(-pid, SIGKILL);
+    int ignored = 0;
+    waitpid(pid, &ignored, 0);
+    if (pidfd >= 0) close(pidfd);
+    throw;
   }
   exit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  kill(-pid, SIGKILL);  // whatever it left running in its group
+  // The shell is a zombie now (or still running, past its timeout): its group is still its own. Kill
+  // what is left in it, then reap the shell.
+  kill(-pid, SIGKILL);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (pidfd >= 0) close(pidfd);
   if (!exit.timed_out) {
     if (WIFEXITED(status)) exit.exit_status = WEXITSTATUS(status);
     else if (WIFSIGNALED(status)) exit.signal = WTERMSIG(status);
   }
   return exit;
 }
+
+namespace {
+
+// `text` with what cannot stand in a JSON record made printable: a byte that is no part of valid UTF-8
+// and a control character other than a tab or a line break become '?', and a carriage return (progress
+// bars redraw with them) a line break.
+std::string printable(const std::string& text) {
+  std::string result;
+  for (size_t i = 0; i < text.size();) {
+    const unsigned char byte = static_cast<unsigned char>(text[i]);
+    if (byte == '\r') {
+      result += '\n';
+      ++i;
+      continue;
+    }
+    if (byte < 0x80) {
+      result += byte >= 0x20 || byte == '\n' || byte == '\t' ? static_cast<char>(byte) : '?';
+      ++i;
+      continue;
+    }
+    const size_t length = byte >= 0xF0 && byte <= 0xF4 ? 4 : byte >= 0xE0 ? 3 : byte >= 0xC2 && byte <= 0xDF ? 2 : 0;
+    bool valid = length > 0 && i + length <= text.size();
+    for (size_t k = 1; valid && k < length; ++k) valid = (static_cast<unsigned char>(text[i + k]) & 0xC0) == 0x80;
+    if (valid && length >= 3) {
+      // No overlong forms, no surrogates, nothing beyond U+10FFFF.
+      const unsigned char second = static_cast<unsigned char>(text[i + 1]);
+      if (byte == 0xE0 && second < 0xA0) valid = false;
+      if (byte == 0xED && second >= 0xA0) valid = false;
+      if (byte == 0xF0 && second < 0x90) valid = false;
+      if (byte == 0xF4 && second >= 0x90) valid = false;
+    }
+    if (valid) {
+      result.append(text, i, length);
+      i += length;
+    } else {
+      result += '?';
+      ++i;
+    }
+  }
+  return result;
+}
+
+}  // namespace
 
 std::string file_tail(const std::string& path, int lines) {
   std::ifstream file(path, std::ios::binary);
@@ -117,6 +219,7 @@ std::string file_tail(const std::string& path, int lines) {
   file.seekg(size - keep);
   std::string text(static_cast<size_t>(keep), '\0');
   file.read(text.data(), keep);
+  text = printable(text);
   while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
   if (text.empty()) return "";
   size_t begin = text.size();

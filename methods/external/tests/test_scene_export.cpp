@@ -136,7 +136,10 @@ TEST(SceneExport, WorldFileHoldsTheFrameInWorldSpace) {
     }
     EXPECT_GT(meshes, 0u);
     for (size_t i = 0; i < posed.lights.size(); ++i) {
-      if (!posed.lights[i].light->is_distant()) continue;
+      const LightKind kind = posed.lights[i].light->kind;
+      EXPECT_EQ(world["lights"][i]["type"], kind == LightKind::directional ? "directional" : kind == LightKind::point ? "point"
+                                           : kind == LightKind::gaussian_spot ? "gaussian_spot" : "environment_image");
+      if (kind != LightKind::directional && kind != LightKind::gaussian_spot) continue;
       const nlohmann::json& direction = world["lights"][i]["direction_to_light"];
       EXPECT_EQ(Vec3(direction[0].get<float>(), direction[1].get<float>(), direction[2].get<float>()), posed.lights[i].direction_to_light);
     }
