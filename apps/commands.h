@@ -23,6 +23,17 @@ struct RenderOptions {
 };
 
 int run_render(const RenderOptions& options);
+// "WxH" into width and height; InputError naming --resolution otherwise.
+void parse_resolution(const std::string& text, int& width, int& height);
+
+struct ExportOptions {
+  std::string scene;
+  std::string out;
+  int frame = 0;
+  std::string resolution;  // "WxH" or empty
+};
+
+int run_export(const ExportOptions& options);
 
 struct ExperimentOptions {
   std::string experiment;

@@ -64,6 +64,16 @@ int main(int argc, char** argv) {
                              "causticbench-gpubench DIR and causticbench gpu-compare DIR (methods: " +
                                  join(dumpable, ", ") + ")");
 
+  ExportOptions exported;
+  CLI::App* export_command = app.add_subcommand(
+      "export", "Write one frame of a scene as the `external` method hands it to a program: scene.json (a\n"
+                "causticbench scene of that frame alone), world.json (the frame in world space), its meshes and\n"
+                "environment maps, and gbuffer.exr, into --out (methods/external/README.md).");
+  export_command->add_option("scene", exported.scene, "scene file (YAML, see docs/scene-format.md)")->required();
+  export_command->add_option("-o,--out", exported.out, "output folder")->required();
+  export_command->add_option("-f,--frame", exported.frame, "frame index of an animated scene")->capture_default_str();
+  export_command->add_option("-r,--resolution", exported.resolution, "override the camera resolution, WIDTHxHEIGHT");
+
   ExperimentOptions experiment;
   CLI::App* run_command = app.add_subcommand(
       "run", "Run an experiment (docs/experiment-format.md): expand its sweeps into runs, compute or reuse the\n"
@@ -184,6 +194,7 @@ int main(int argc, char** argv) {
     load_plugins_from_environment();
     for (const std::string& path : plugin_paths) load_plugin(path);
     if (*render_command) return run_render(render);
+    if (*export_command) return run_export(exported);
     if (*run_command) return run_experiment_command(experiment);
     if (*report_command) return run_report(report_folder, recompute_metrics, viewer_megabytes);
     if (*summarize_command) return run_summarize(summarize_folders, summarize_out);

@@ -146,5 +146,31 @@ TEST(SceneExport, WorldFileHoldsTheFrameInWorldSpace) {
   }
 }
 
+// `causticbench export`: the files of one frame as external hands them over, with the G-buffer of that
+// frame; a frame outside the animation is refused with exit 2 before anything is written.
+TEST(SceneExport, TheExportCommandWritesOneFramesFiles) {
+  testing::TemporaryFolder folder("scene_export_command");
+  const std::string scene = testing::shipped_scenes() + "/water_pool.yaml";
+  std::string output;
+  ASSERT_EQ(testing::run_command(std::string(CAUSTICBENCH_BINARY) + " export " + scene + " --frame 7 --resolution 32x24 --out " +
+                                     folder.path("frame"),
+                                 output),
+            0)
+      << output;
+  EXPECT_NE(output.find("gbuffer.exr, scene.json, world.json"), std::string::npos) << output;
+  Scene original = load_scene(scene);
+  set_resolution(original, 32, 24);
+  const PosedFrame posed(original, 7);
+  const Scene exported = load_scene(folder.path("frame/scene.json"));
+  expect_same_gbuffer(posed.gbuffer, PosedFrame(exported, 0).gbuffer, "export --frame 7");
+  EXPECT_TRUE(same_bits(GBuffer::read_image(folder.path("frame/gbuffer.exr")), posed.gbuffer.to_image()));
+  EXPECT_EQ(nlohmann::json::parse(read_text(folder.path("frame/world.json")))["frame"], 7);
+
+  EXPECT_EQ(testing::run_command(std::string(CAUSTICBENCH_BINARY) + " export " + scene + " --frame 30 --out " + folder.path("late"), output),
+            2);
+  EXPECT_NE(output.find("--frame: expected 0 to 29"), std::string::npos) << output;
+  EXPECT_FALSE(fs::exists(folder.path("late")));
+}
+
 }  // namespace
 }  // namespace causticbench
