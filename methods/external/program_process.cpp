@@ -169,43 +169,15 @@ ProgramExit run_program(const std::string& command, const std::string& stdout_pa
 
 namespace {
 
-// `text` with what cannot stand in a JSON record made printable: a byte that is no part of valid UTF-8
-// and a control character other than a tab or a line break become '?', and a carriage return (progress
-// bars redraw with them) a line break.
-std::string printable(const std::string& text) {
-  std::string result;
-  for (size_t i = 0; i < text.size();) {
-    const unsigned char byte = static_cast<unsigned char>(text[i]);
-    if (byte == '\r') {
-      result += '\n';
-      ++i;
-      continue;
-    }
-    if (byte < 0x80) {
-      result += byte >= 0x20 || byte == '\n' || byte == '\t' ? static_cast<char>(byte) : '?';
-      ++i;
-      continue;
-    }
-    const size_t length = byte >= 0xF0 && byte <= 0xF4 ? 4 : byte >= 0xE0 ? 3 : byte >= 0xC2 && byte <= 0xDF ? 2 : 0;
-    bool valid = length > 0 && i + length <= text.size();
-    for (size_t k = 1; valid && k < length; ++k) valid = (static_cast<unsigned char>(text[i + k]) & 0xC0) == 0x80;
-    if (valid && length >= 3) {
-      // No overlong forms, no surrogates, nothing beyond U+10FFFF.
-      const unsigned char second = static_cast<unsigned char>(text[i + 1]);
-      if (byte == 0xE0 && second < 0xA0) valid = false;
-      if (byte == 0xED && second >= 0xA0) valid = false;
-      if (byte == 0xF0 && second < 0x90) valid = false;
-      if (byte == 0xF4 && second >= 0x90) valid = false;
-    }
-    if (valid) {
-      result.append(text, i, length);
-      i += length;
-    } else {
-      result += '?';
-      ++i;
-    }
+// `text` for a terminal and a record: a carriage return (progress bars redraw with them) becomes a line
+// break and another control character but a tab '?'. Bytes that are not UTF-8 are left to the store,
+// which writes every record with U+FFFD in their place (store/run_folders.cpp).
+std::string printable(std::string text) {
+  for (char& c : text) {
+    if (c == '\r') c = '\n';
+    else if (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t') c = '?';
   }
-  return result;
+  return text;
 }
 
 }  // namespace

@@ -216,9 +216,10 @@ TEST_F(ExternalRuns, FailingProgramsFailTheirRunsAndTheSweepCompletes) {
   expect_in(error_of("true"), "wrote no image");
   expect_in(error_of("echo waiting"), "ran past its timeout of 1 s and was killed");
   expect_in(error_of("echo waiting"), "waiting");
-  // Bytes that are not UTF-8 stand in the record as '?', a carriage return as a line break.
+  // Bytes that are not UTF-8 stand in the record as U+FFFD (the store's replacement), a carriage return
+  // as a line break.
   expect_in(error_of("printf"), "exited with status 3");
-  expect_in(error_of("printf"), "  bad ?? bytes\n  done");
+  expect_in(error_of("printf"), "  bad \xEF\xBF\xBD\xEF\xBF\xBD bytes\n  done");
   // A failed frame's files stay, with the command to rerun it.
   const std::string error = error_of("echo the renderer");
   const size_t kept = error.find("kept in ");
