@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/scene.h"
 #include "reports/report.h"
 
 namespace causticbench {
@@ -23,8 +24,9 @@ struct RenderOptions {
 };
 
 int run_render(const RenderOptions& options);
-// "WxH" into width and height; InputError naming --resolution otherwise.
-void parse_resolution(const std::string& text, int& width, int& height);
+// The scene file at `path`, at `resolution` ("WxH", as --resolution takes it) when that is not empty;
+// InputError naming the file or --resolution.
+Scene load_scene_at_resolution(const std::string& path, const std::string& resolution);
 
 struct ExportOptions {
   std::string scene;

@@ -16,12 +16,7 @@ namespace causticbench {
 
 int run_export(const ExportOptions& options) {
   // Everything is checked before any file is written.
-  Scene scene = load_scene(options.scene);
-  if (!options.resolution.empty()) {
-    int width, height;
-    parse_resolution(options.resolution, width, height);
-    set_resolution(scene, width, height);
-  }
+  const Scene scene = load_scene_at_resolution(options.scene, options.resolution);
   if (options.frame < 0 || options.frame >= scene.frames) {
     throw InputError(fmt::format("--frame: expected 0 to {} ({} frames in {}), found {}", scene.frames - 1, scene.frames,
                                  scene.source, options.frame));

@@ -32,6 +32,16 @@ void parse_resolution(const std::string& text, int& width, int& height) {
   }
 }
 
+Scene load_scene_at_resolution(const std::string& path, const std::string& resolution) {
+  Scene scene = load_scene(path);
+  if (!resolution.empty()) {
+    int width, height;
+    parse_resolution(resolution, width, height);
+    set_resolution(scene, width, height);
+  }
+  return scene;
+}
+
 // A reference with no caustic in view is what stops an experiment (exit code 2): say so here already, by
 // the same rule (metrics/caustic_presence.h).
 void warn_if_reference_is_empty(const RenderOptions& options, const FrameResult& result, const Image& direct) {
@@ -51,12 +61,7 @@ static void render_and_write(const RenderOptions& options, const Scene& scene, c
 
 int run_render(const RenderOptions& options) {
   // Everything is checked before any work starts.
-  Scene scene = load_scene(options.scene);
-  if (!options.resolution.empty()) {
-    int width, height;
-    parse_resolution(options.resolution, width, height);
-    set_resolution(scene, width, height);
-  }
+  Scene scene = load_scene_at_resolution(options.scene, options.resolution);
   RenderRequest request;
   request.scene = &scene;
   request.method = options.method;

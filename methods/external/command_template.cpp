@@ -52,6 +52,13 @@ std::string expand_command(const std::string& command, const std::map<std::strin
   return result;
 }
 
+std::map<std::string, std::string> program_knobs(const ParamSet& knobs) {
+  std::map<std::string, std::string> program;
+  for (const auto& [name, value] : knobs.values())
+    if (name.rfind("program.", 0) == 0) program[name] = format_param_value(value);
+  return program;
+}
+
 std::string command_problem(const std::string& command, const std::map<std::string, std::string>& knobs) {
   if (command.find_first_not_of(" \t\n") == std::string::npos)
     return "set `command`, the program to run for each frame, for example \"python3 my_renderer.py {scene} {gbuffer} {out}\"";

@@ -80,7 +80,8 @@ Image ExternalMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
   // What a previous frame's program wrote must not pass for this one's.
   fs::remove(out);
   fs::remove(statistics_path);
-  std::map<std::string, std::string> values = {{"scene", exporter_->scene_path()},
+  std::map<std::string, std::string> values = program_knobs(build_);
+  values.insert({{"scene", exporter_->scene_path()},
                                                {"world", exporter_->world_path()},
                                                {"gbuffer", gbuffer_path},
                                                {"out", out},
@@ -89,9 +90,7 @@ Image ExternalMethod::render(const GBuffer& gbuffer, const ParamSet& render) {
                                                {"frame", std::to_string(frame_)},
                                                {"width", std::to_string(gbuffer.width)},
                                                {"height", std::to_string(gbuffer.height)},
-                                               {"causticbench", executable_path()}};
-  for (const auto& [name, value] : build_.values())
-    if (name.rfind("program.", 0) == 0) values[name] = format_param_value(value);
+                                               {"causticbench", executable_path()}});
   const std::string command = expand_command(build_.text("command"), values);
   // To rerun the frame by hand: from the folder the sweep ran in, where relative paths of the command lead.
   write_text_atomically(folder_ + "/command.sh", "cd " + shell_quoted(fs::current_path().string()) + "\n" + command + "\n");

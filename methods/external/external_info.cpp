@@ -29,12 +29,8 @@ const MethodInfo& ExternalMethod::static_info() {
                              "key like any knob (sweep it, filter by it, plot against it)",
                              ParamPhase::build),
     };
-    m.knob_rules = {KnobRule{{"command"}, [](const ParamSet& knobs) {
-                               std::map<std::string, std::string> program;
-                               for (const auto& [name, value] : knobs.values())
-                                 if (name.rfind("program.", 0) == 0) program[name] = format_param_value(value);
-                               return command_problem(knobs.text("command"), program);
-                             }}};
+    m.knob_rules = {KnobRule{
+        {"command"}, [](const ParamSet& knobs) { return command_problem(knobs.text("command"), program_knobs(knobs)); }}};
     // What it models is its program's: it declares nothing, and the capability study measures it
     // (configs/experiments/study_capabilities.yaml with an entry for it).
     m.capabilities.notes = {{"reflection", "external declares no capability: what it models is its program's; add it "
