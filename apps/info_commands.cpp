@@ -1,3 +1,5 @@
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "apps/commands.h"
@@ -13,21 +15,26 @@ int run_list() {
   const auto& registry = method_registry();
   std::vector<std::string> capability_names;
   for (const auto& [name, value] : Capabilities{}.entries()) capability_names.push_back(name);
+  // Columns as wide as their longest entry, so that a long method name (a plugin's) keeps them aligned.
+  size_t name_width = 0, capability_width = 0;
+  for (const MethodEntry& method : registry) name_width = std::max(name_width, method.info().name.size());
+  for (const std::string& name : capability_names) capability_width = std::max(capability_width, name.size());
   fmt::print("Methods ({}):\n", registry.size());
   for (const MethodEntry& method : registry) {
     const MethodInfo& info = method.info();
-    fmt::print("  {:<12} {}{}\n", info.name, info.summary,
+    fmt::print("  {:<{}} {}{}\n", info.name, name_width, info.summary,
                method.plugin ? fmt::format(" [plugin {} {}, {}]", method.plugin->name, method.plugin->version,
                                            method.plugin->path)
                              : "");
   }
-  fmt::print("\nCapabilities (yes / no):\n  {:<26}", "");
-  for (const MethodEntry& method : registry) fmt::print(" {:>11}", method.info().name);
+  fmt::print("\nCapabilities (yes / no):\n  {:<{}}", "", capability_width);
+  for (const MethodEntry& method : registry) fmt::print(" {:>{}}", method.info().name, std::max<size_t>(3, method.info().name.size()));
   fmt::print("\n");
   for (size_t i = 0; i < capability_names.size(); ++i) {
-    fmt::print("  {:<26}", capability_names[i]);
+    fmt::print("  {:<{}}", capability_names[i], capability_width);
     for (const MethodEntry& method : registry) {
-      fmt::print(" {:>11}", method.info().capabilities.entries()[i].second ? "yes" : "no");
+      fmt::print(" {:>{}}", method.info().capabilities.entries()[i].second ? "yes" : "no",
+                 std::max<size_t>(3, method.info().name.size()));
     }
     fmt::print("\n");
   }

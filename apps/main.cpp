@@ -2,6 +2,9 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <cmath>
+#include <stdexcept>
+
 #include "apps/commands.h"
 #include "core/errors.h"
 #include "core/files.h"
@@ -14,6 +17,25 @@ namespace {
 // A bound for --threads only so that CLI11's message stays readable ("not in range 0 to 65536"); what
 // matters is that a negative count is refused.
 constexpr int kMaximumThreads = 65536;
+
+// A path option must name something: an empty one would resolve to the current folder's parent's root
+// ("wrote /caustic.exr") or stop with an internal error.
+const CLI::Validator kNonEmptyPath(
+    [](std::string& value) { return value.empty() ? std::string("expected a path, found an empty one") : std::string(); },
+    "PATH");
+
+// A number option must be finite: CLI::Range lets NaN through (every comparison with it is false).
+const CLI::Validator kFiniteNumber(
+    [](std::string& value) {
+      try {
+        size_t used = 0;
+        const double number = std::stod(value, &used);
+        if (used == value.size() && std::isfinite(number)) return std::string();
+      } catch (const std::exception&) {
+      }
+      return "expected a finite number, found '" + value + "'";
+    },
+    "NUMBER");
 
 }  // namespace
 
@@ -44,7 +66,7 @@ int main(int argc, char** argv) {
   render_command->add_option("scene", render.scene, "scene file (YAML, see docs/scene-format.md)")->required();
   render_command->add_option("-m,--method", render.method, "method name (see `causticbench list`)")->capture_default_str();
   render_command->add_option("-s,--set", render.assignments, "knob=value, repeatable (see `causticbench describe METHOD`)");
-  render_command->add_option("-o,--out", render.out, "output folder")->required();
+  render_command->add_option("-o,--out", render.out, "output folder")->required()->check(kNonEmptyPath);
   render_command->add_option("-f,--frame", render.frame, "frame index of an animated scene")->capture_default_str();
   render_command->add_option("-t,--threads", render.threads, "worker threads (0: all cores)")
       ->capture_default_str()->check(CLI::Range(0, kMaximumThreads));
@@ -70,7 +92,7 @@ int main(int argc, char** argv) {
                 "causticbench scene of that frame alone), world.json (the frame in world space), its meshes and\n"
                 "environment maps, and gbuffer.exr, into --out (methods/external/README.md).");
   export_command->add_option("scene", exported.scene, "scene file (YAML, see docs/scene-format.md)")->required();
-  export_command->add_option("-o,--out", exported.out, "output folder")->required();
+  export_command->add_option("-o,--out", exported.out, "output folder")->required()->check(kNonEmptyPath);
   export_command->add_option("-f,--frame", exported.frame, "frame index of an animated scene")->capture_default_str();
   export_command->add_option("-r,--resolution", exported.resolution, "override the camera resolution, WIDTHxHEIGHT");
 
@@ -80,7 +102,7 @@ int main(int argc, char** argv) {
              "cached reference, time and measure every run not yet stored under RESULTS/<experiment>/runs/<key>/,\n"
              "then write the report. A killed run resumes where it stopped.");
   run_command->add_option("experiment", experiment.experiment, "experiment file (YAML)")->required();
-  run_command->add_option("--results", experiment.results, "results folder")->capture_default_str();
+  run_command->add_option("--results", experiment.results, "results folder")->capture_default_str()->check(kNonEmptyPath);
   run_command->add_flag("--dry-run", experiment.dry_run, "list the runs (stored or pending) and exit");
   run_command->add_flag("--force", experiment.force, "rerun runs that are already stored");
   run_command->add_option("--filter", experiment.filter,
@@ -109,6 +131,7 @@ int main(int argc, char** argv) {
                    "what the viewer's pixel files of frames beyond each run's first may take, in MB (every k-th frame "
                    "of every run, the least k that fits; 0: first frames only)")
       ->capture_default_str()
+      ->check(kFiniteNumber)
       ->check(CLI::Range(0.0, 1e6));
   report_command->add_flag("--recompute-metrics", recompute_metrics,
                            "first compute every metric of experiment.json again from the stored images (after a metric\n"
@@ -135,7 +158,8 @@ int main(int argc, char** argv) {
   slurm_command->add_option("experiments", slurm.experiments, "experiment files (YAML)")->required();
   slurm_command->add_option("--shards", slurm.shards, "array jobs per experiment")->required()->check(CLI::Range(1, 10000));
   slurm_command->add_option("--results", slurm.results, "results folder, on a filesystem every node mounts")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(kNonEmptyPath);
   slurm_command->add_flag("--submit", slurm.submit, "also submit the jobs with sbatch (runs submit.sh)");
   slurm_command->add_option("--partition", slurm.partition, "#SBATCH --partition of every job");
   slurm_command->add_option("--time", slurm.time, "#SBATCH --time of every job (e.g. 4:00:00)");
@@ -211,12 +235,15 @@ int main(int argc, char** argv) {
   } catch (const ProgramError& error) {
     fmt::print(stderr, "error: {}\n", error.what());
     return 1;
+  } catch (const MethodError& error) {
+    fmt::print(stderr, "error: {}\n", error.what());
+    return 1;
   } catch (const WriteError& error) {
     // The environment's fault (a full disk, a folder made read-only), not the input's nor a bug.
     fmt::print(stderr, "error: {}\n", error.what());
     return 1;
-  } catch (const std::exception& error) {
-    fmt::print(stderr, "internal error: {}\n", error.what());
+  } catch (...) {
+    fmt::print(stderr, "internal error: {}\n", current_exception_text());
     return 1;
   }
   return 0;

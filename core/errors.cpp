@@ -1,6 +1,11 @@
 #include "core/errors.h"
 
 #include <algorithm>
+#include <cstdlib>
+#include <exception>
+#include <typeinfo>
+
+#include <cxxabi.h>
 
 #include <fmt/format.h>
 
@@ -9,6 +14,26 @@ namespace causticbench {
 std::string SourceLocation::describe() const {
   if (line <= 0) return file;
   return fmt::format("{}:{}:{}", file, line, column);
+}
+
+std::string current_exception_text() {
+  try {
+    throw;
+  } catch (const std::exception& error) {
+    return error.what();
+  } catch (...) {
+    // The thrown object's type, as the C++ runtime names it (an int thrown is "int").
+    std::string type = "an unknown type";
+    if (const std::type_info* info = abi::__cxa_current_exception_type()) {
+      int status = 0;
+      char* readable = abi::__cxa_demangle(info->name(), nullptr, nullptr, &status);
+      type = status == 0 && readable ? readable : info->name();
+      std::free(readable);
+    }
+    return fmt::format("it threw a value of type {}, which is not a std::exception (throw a std::runtime_error with a "
+                       "message instead)",
+                       type);
+  }
 }
 
 void throw_input_error(const SourceLocation& where, std::string_view key, std::string_view expected,
@@ -43,6 +68,16 @@ std::string closest_match(std::string_view word, const std::vector<std::string>&
     if (distance < best_distance) {
       best_distance = distance;
       best = candidate;
+    }
+  }
+  if (!best.empty() || word.size() < 2) return best;
+  // No near spelling: a name of which the word is a whole part between underscores ("fov" of
+  // "fov_degrees", "degrees" too), the shortest such.
+  for (const std::string& candidate : candidates) {
+    for (size_t at = candidate.find(word); at != std::string::npos; at = candidate.find(word, at + 1)) {
+      const bool starts = at == 0 || candidate[at - 1] == '_';
+      const bool ends = at + word.size() == candidate.size() || candidate[at + word.size()] == '_';
+      if (starts && ends && candidate != word && (best.empty() || candidate.size() < best.size())) best = candidate;
     }
   }
   return best;

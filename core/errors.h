@@ -33,6 +33,18 @@ class ProgramError : public std::runtime_error {
   explicit ProgramError(const std::string& message) : std::runtime_error(message) {}
 };
 
+// A method's own code broke the interface's promises (render() returned an image of another size than
+// the G-buffer's, or threw something that is not a std::exception): that run fails with this message,
+// the sweep goes on; `render` exits with 1.
+class MethodError : public std::runtime_error {
+ public:
+  explicit MethodError(const std::string& message) : std::runtime_error(message) {}
+};
+
+// Inside a catch block: the message of the exception being handled, what() of a std::exception, or a
+// sentence naming what else was thrown (a plugin's `throw 42;`), so that a catch (...) can report it.
+std::string current_exception_text();
+
 [[noreturn]] void throw_input_error(const SourceLocation& where, std::string_view key, std::string_view expected,
                                     std::string_view found);
 

@@ -121,7 +121,14 @@ std::string temporary_path(const std::string& path) {
   struct statvfs space{};
   std::string folder = fs::path(path).parent_path().string();
   bool full = statvfs(folder.empty() ? "." : folder.c_str(), &space) == 0 && space.f_bavail == 0;
-  throw WriteError(fmt::format("cannot write {}: {}{}", path, what, full ? ": " + os_error_text(ENOSPC) : ""));
+  // Named once: the writer's own message often says it already, then with its symbol.
+  std::string said = what;
+  const std::string text = std::strerror(ENOSPC), named = os_error_text(ENOSPC);
+  if (const size_t at = said.find(text); at != std::string::npos) {
+    if (said.compare(at, named.size(), named) != 0) said.replace(at, text.size(), named);
+    full = false;
+  }
+  throw WriteError(fmt::format("cannot write {}: {}{}", path, said, full ? ": " + named : ""));
 }
 
 // A write step's injected fault after half the temporary file exists: a kill, or a full disk.
@@ -277,23 +284,24 @@ size_t remove_stale_partial_files(const std::string& folder, bool folder_is_lock
   return removed;
 }
 
-std::string read_text(const std::string& path) {
+std::string read_text(const std::string& path, const std::string& kind, uintmax_t most_bytes) {
   std::error_code error;
   fs::file_status status = fs::status(path, error);
   if (!fs::exists(status)) throw InputError(fmt::format("{}: file not found", path));
   // Only a regular file: a FIFO would block the read forever, /dev/zero would never end.
   if (!fs::is_regular_file(status)) {
-    std::string kind = fs::is_directory(status) ? "a folder"
+    std::string found = fs::is_directory(status) ? "a folder"
                        : fs::is_fifo(status)    ? "a FIFO (named pipe)"
                        : fs::is_character_file(status) || fs::is_block_file(status) ? "a device"
                                                                                      : "a socket or other special file";
-    throw InputError(fmt::format("{}: expected a regular file (a scene or experiment), found {}", path, kind));
+    throw InputError(fmt::format("{}: expected a regular file ({}), found {}", path, kind, found));
   }
   uintmax_t size = fs::file_size(path, error);
-  if (!error && size > kMaximumConfigurationBytes) {
-    throw InputError(fmt::format("{}: expected a configuration file of at most {} MiB (meshes and maps belong in "
-                                 "asset files), found {:.1f} MiB",
-                                 path, kMaximumConfigurationBytes >> 20, size / 1048576.0));
+  if (!error && size > most_bytes) {
+    const bool configuration = most_bytes == kMaximumConfigurationBytes && kind == "a scene or experiment";
+    throw InputError(fmt::format("{}: expected {} of at most {:.4g} MiB{}, found {:.1f} MiB", path,
+                                 configuration ? "a configuration file" : kind, most_bytes / 1048576.0,
+                                 configuration ? " (meshes and maps belong in asset files)" : "", size / 1048576.0));
   }
   std::ifstream stream(path, std::ios::binary);
   if (!stream) throw InputError(fmt::format("{}: cannot open file for reading: {}", path, os_error_text(errno)));
@@ -304,6 +312,11 @@ std::string read_text(const std::string& path) {
 
 void ensure_folder(const std::string& path) {
   std::error_code error;
+  if (path.empty()) throw InputError("expected an output folder, found an empty path");
+  if (fs::is_symlink(fs::symlink_status(path, error)) && !fs::exists(path, error)) {
+    throw InputError(fmt::format("{}: expected an output folder, found a symbolic link to {}, which does not exist", path,
+                                 fs::read_symlink(path, error).string()));
+  }
   if (std::filesystem::exists(path) && !std::filesystem::is_directory(path)) {
     throw InputError(fmt::format("{}: expected an output folder, found an existing file", path));
   }

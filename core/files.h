@@ -78,8 +78,10 @@ bool fault_injection_option(const std::string& option);
 // 50 MB list) from exhausting memory before any check can run.
 constexpr uintmax_t kMaximumConfigurationBytes = 4u << 20;
 // The whole text of a configuration file; InputError naming it when it does not exist, is not a regular
-// file (a FIFO, a device, a folder), is larger than kMaximumConfigurationBytes or cannot be read.
-std::string read_text(const std::string& path);
+// file (a FIFO, a device, a folder), is larger than `most_bytes` or cannot be read. `kind` says what the
+// file was expected to be, for those messages ("a scene or experiment", "a statistics file (JSON)").
+std::string read_text(const std::string& path, const std::string& kind = "a scene or experiment",
+                      uintmax_t most_bytes = kMaximumConfigurationBytes);
 // Creates the folder (and parents); throws InputError if it exists as a file or cannot be created.
 void ensure_folder(const std::string& path);
 

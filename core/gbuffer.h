@@ -39,6 +39,9 @@ struct GBuffer {
   static Image read_image(const std::string& path);
 };
 
+// What a G-buffer holds per pixel: position, normal and albedo, object id, receiver flag and footprint.
+constexpr double kGBufferBytesPerPixel = 3 * sizeof(Vec3) + sizeof(int) + sizeof(uint8_t) + sizeof(float);
+
 // One primary ray per pixel through point (offset_x, offset_y) of the pixel (in [0, 1), from its top-left
 // corner); the pixel centre by default.
 GBuffer render_gbuffer(const Tracer& tracer, float offset_x = 0.5f, float offset_y = 0.5f);

@@ -48,10 +48,16 @@ std::string encode_exr(const Image& image, const std::vector<std::string>& chann
 }
 
 Image decode_exr(const std::string& bytes, const std::string& path, std::vector<std::string>* channel_names) {
+  return decode_exr_checked(bytes, path, {}, channel_names);
+}
+
+Image decode_exr_checked(const std::string& bytes, const std::string& path, const std::function<void(const ExrShape&)>& check,
+                         std::vector<std::string>* channel_names) {
   OIIO::Filesystem::IOMemReader input_proxy(bytes.data(), bytes.size());
   auto input = OIIO::ImageInput::open("image.exr", nullptr, &input_proxy);
   if (!input) throw std::runtime_error(fmt::format("{}: not a readable EXR image: {}", path, OIIO::geterror()));
   const OIIO::ImageSpec& spec = input->spec();
+  if (check) check(ExrShape{spec.width, spec.height, spec.nchannels});
   Image image(spec.width, spec.height, spec.nchannels);
   if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data())) {
     throw std::runtime_error(fmt::format("{}: cannot read the EXR image: {}", path, input->geterror()));

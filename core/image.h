@@ -1,6 +1,7 @@
 // Float RGB(A) images and their files: OpenEXR for HDR data (through OpenImageIO), PNG for pictures.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,14 @@ std::string encode_exr(const Image& image, const std::vector<std::string>& chann
 // With `channel_names`, it receives the file's channel names in the order of the image's channels (as
 // OpenImageIO reads them: R, G, B, A first, then the others in the file's order, which is alphabetical).
 Image decode_exr(const std::string& bytes, const std::string& path, std::vector<std::string>* channel_names = nullptr);
+// An EXR's size as its header states it.
+struct ExrShape {
+  int width = 0, height = 0, channels = 0;
+};
+// decode_exr that first hands the header's shape to `check`, which throws to refuse it before any pixel
+// memory is taken: a 96 KB file may claim 40000 x 40000 pixels.
+Image decode_exr_checked(const std::string& bytes, const std::string& path, const std::function<void(const ExrShape&)>& check,
+                         std::vector<std::string>* channel_names = nullptr);
 // Written atomically (core/files.h): WriteError naming the file and the OS error, nothing half written.
 void write_exr(const Image& image, const std::string& path, const std::vector<std::string>& channel_names = {});
 Image read_exr(const std::string& path, std::vector<std::string>* channel_names = nullptr);

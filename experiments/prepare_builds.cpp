@@ -65,10 +65,10 @@ BuildSummary prepare_missing_builds(const Experiment& experiment, const std::vec
       }
     } catch (const WriteError&) {
       throw;
-    } catch (const std::exception& error) {
+    } catch (...) {
       // Not this job's to record: the shard that runs the group stores the failure in each run's record.
       fmt::print(stderr, "warning: prepare() of {} ({}) failed: {}; its runs will record the failure\n", run->method,
-                 run->label, error.what());
+                 run->label, current_exception_text());
       ++summary.failed;
     }
     progress.update(static_cast<double>(++done), run->label);

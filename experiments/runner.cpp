@@ -147,8 +147,12 @@ class RunExecutor {
         if (claimed.empty()) continue;
         use_variant(first.variant);
         if (!method) {
-          method = create_method(first.method);
-          prepare_error = prepare(*method, variant, first, prepared);
+          try {
+            method = create_method(first.method);
+            prepare_error = prepare(*method, variant, first, prepared);
+          } catch (const MethodError& error) {  // its constructor failed
+            prepare_error = error.what();
+          }
         }
         if (!prepare_error.empty()) {
           for (const ClaimedRun& run : claimed) fail(run, prepare_error);
@@ -213,8 +217,8 @@ class RunExecutor {
       }
     } catch (const WriteError&) {
       throw;  // the store cannot be written: nothing further can be stored either
-    } catch (const std::exception& error) {
-      return error.what();
+    } catch (...) {
+      return current_exception_text();  // a plugin may throw anything
     }
     return "";
   }
@@ -237,8 +241,13 @@ class RunExecutor {
       std::unique_ptr<CausticMethod> own;
       PrepareOutcome own_prepared;
       if (s > 0 && replicas.front().build.has("seed")) {
-        own = create_method(first.method);
-        const std::string error = prepare(*own, experiment_.variants.at(first.variant), replicas.front(), own_prepared);
+        std::string error;
+        try {
+          own = create_method(first.method);
+          error = prepare(*own, experiment_.variants.at(first.variant), replicas.front(), own_prepared);
+        } catch (const MethodError& failure) {  // its constructor failed
+          error = failure.what();
+        }
         if (!error.empty()) {
           for (const ClaimedRun& run : claimed) fail(run, which + error);
           return;
@@ -252,19 +261,23 @@ class RunExecutor {
       try {
         outputs = play_sequence(*instance, frames_.sequence(experiment_.frames), replicas.front().frame, render_sets,
                                 TimingProtocol{true, experiment_.repetitions, experiment_.pixel_samples});
-      } catch (const std::exception& error) {
-        for (const ClaimedRun& run : claimed) fail(run, which + error.what());
+      } catch (const WriteError&) {
+        throw;
+      } catch (...) {
+        for (const ClaimedRun& run : claimed) fail(run, which + current_exception_text());
         return;
       }
       for (size_t r = 0; r < claimed.size(); ++r) {
         try {
           outcomes[r].push_back(measure_run(experiment_, replicas[r], *instance, *instance_prepared, std::move(outputs[r]),
                                             frames_, empty_reference));
-        } catch (const std::exception& error) {
+        } catch (const WriteError&) {
+          throw;
+        } catch (...) {
           RunOutcome failed;
           failed.record = run_identity(experiment_, replicas[r]);
           failed.record.status = "failed";
-          failed.record.error = error.what();  // combine_seeds names the seed
+          failed.record.error = current_exception_text();  // combine_seeds names the seed
           outcomes[r].push_back(std::move(failed));
         }
       }
@@ -286,8 +299,8 @@ class RunExecutor {
         progress_.update(static_cast<double>(++done_), run.label);
       } catch (const WriteError&) {
         throw;
-      } catch (const std::exception& error) {
-        fail(claimed[r], error.what());
+      } catch (...) {
+        fail(claimed[r], current_exception_text());
       }
     }
   }
@@ -320,20 +333,26 @@ class RunExecutor {
 void check_memory(const Experiment& experiment, const std::vector<PendingRun>& pending) {
   std::set<std::tuple<size_t, std::string, std::string>> checked;  // (variant, method, knobs)
   std::map<size_t, std::unique_ptr<RestPose>> rests;                // a variant's rest pose, built once
-  auto check = [&](size_t index, const std::string& method, const ParamSet& knobs) {
+  auto check = [&](size_t index, const std::string& method, const ParamSet& knobs, int pixel_samples) {
     if (!checked.insert({index, method, knobs.to_json().dump()}).second) return;
     const SceneVariant& variant = experiment.variants.at(index);
     std::unique_ptr<RestPose>& rest = rests[index];
     if (!rest) rest = std::make_unique<RestPose>(variant.scene, experiment.frames);
     const Camera& camera = variant.scene.camera;
-    const std::unique_ptr<CausticMethod> instance = find_method(method).create();
-    check_memory_fits(estimate_run_memory(camera.width, camera.height, *instance, rest->context(), knobs),
-                      fmt::format("{}: variant {} with {} at {}x{}", experiment.source, variant.name, method,
-                                  camera.width, camera.height));
+    try {
+      const std::unique_ptr<CausticMethod> instance = create_method(method);
+      check_memory_fits(estimate_run_memory(camera.width, camera.height, *instance, rest->context(), knobs, pixel_samples),
+                        fmt::format("{}: variant {} with {} at {}x{}", experiment.source, variant.name, method,
+                                    camera.width, camera.height));
+    } catch (const MethodError& error) {
+      // A method's own code failed (a plugin's constructor or knob_memory() threw): its runs record that
+      // when they are played; the others go ahead.
+      fmt::print(stderr, "warning: the memory of {}'s runs cannot be estimated: {}\n", method, error.what());
+    }
   };
   for (const PendingRun& entry : pending) {
-    check(entry.run->variant, "reference", experiment.reference_params);
-    check(entry.run->variant, entry.run->method, entry.run->params);
+    check(entry.run->variant, "reference", experiment.reference_params, 1);  // the reference averages footprints itself
+    check(entry.run->variant, entry.run->method, entry.run->params, experiment.pixel_samples);
   }
 }
 

@@ -1,5 +1,6 @@
 #include "methods/lifecycle.h"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -24,28 +25,58 @@ std::optional<double> gpu_milliseconds(CausticMethod& method) {
   return gpu ? gpu->gpu_render_milliseconds() : std::nullopt;
 }
 
+// What every render() must return: an RGB image of the G-buffer's size. Anything else would be read or
+// written past its end (by the clearing below, the metrics, the store), so the run fails here, naming both.
+void check_rendered_image(const Image& image, const GBuffer& gbuffer, const CausticMethod& method) {
+  if (image.width() == gbuffer.width && image.height() == gbuffer.height && image.channels() == 3 &&
+      image.values().size() == gbuffer.pixel_count() * 3)
+    return;
+  throw MethodError(fmt::format("{}'s render() returned a {}x{} image with {} channel{}; expected {}x{} with 3 (RGB), the "
+                                "G-buffer's size",
+                                method.info().name, image.width(), image.height(), image.channels(),
+                                image.channels() == 1 ? "" : "s", gbuffer.width, gbuffer.height));
+}
+
+// Runs `call`, which calls into a method's code (a plugin's, perhaps): whatever it throws that is not a
+// std::exception becomes a MethodError naming the method and the phase, so that the run fails alone
+// instead of the process ending in std::terminate.
+template <typename Call>
+decltype(auto) guarded(const CausticMethod& method, const char* phase, Call&& call) {
+  try {
+    return call();
+  } catch (const std::exception&) {
+    throw;
+  } catch (...) {
+    throw MethodError(fmt::format("{} of method {}: {}", phase, method.info().name, current_exception_text()));
+  }
+}
+
 // One render per sub-pixel G-buffer, each zero where its own point sees no receiver, averaged; the
 // times (and GPU times, where every sample has one) summed.
 Image render_subpixels(CausticMethod& method, const PosedFrame& posed, const ParamSet& render_knobs, int samples,
                        double& render_ms, std::optional<double>& gpu_ms) {
-  const std::vector<GBuffer>& buffers = posed.subpixel_gbuffers(samples);
-  Image sum(posed.gbuffer.width, posed.gbuffer.height, 3);
+  // Summed in double: N finite values near FLT_MAX overflow a float sum, though their mean is finite.
+  std::vector<double> sum(posed.gbuffer.pixel_count() * 3, 0.0);
   double gpu_sum = 0.0;
   bool every_gpu = true;
-  for (const GBuffer& buffer : buffers) {
+  int count = 0;
+  posed.for_each_subpixel_gbuffer(samples, [&](const GBuffer& buffer) {
     auto start = Clock::now();
     Image image = method.render(buffer, render_knobs);
     render_ms += seconds_since(start) * 1e3;
+    check_rendered_image(image, buffer, method);
     std::optional<double> gpu = gpu_milliseconds(method);
     every_gpu = every_gpu && gpu.has_value();
     if (gpu) gpu_sum += *gpu;
     buffer.clear_outside_receivers(image);
-    for (size_t pixel = 0; pixel < sum.pixel_count(); ++pixel)
-      for (int c = 0; c < 3; ++c) sum.at(pixel, c) += image.at(pixel, c);
-  }
-  for (float& value : sum.values()) value /= static_cast<float>(buffers.size());
+    const std::vector<float>& values = image.values();
+    for (size_t i = 0; i < sum.size(); ++i) sum[i] += values[i];
+    ++count;
+  });
+  Image mean(posed.gbuffer.width, posed.gbuffer.height, 3);
+  for (size_t i = 0; i < sum.size(); ++i) mean.values()[i] = static_cast<float>(sum[i] / count);
   if (every_gpu) gpu_ms = gpu_sum;
-  return sum;
+  return mean;
 }
 
 }  // namespace
@@ -59,17 +90,56 @@ bool valid_pixel_samples(int64_t samples) {
   return side * side == samples;
 }
 
-const std::vector<GBuffer>& PosedFrame::subpixel_gbuffers(int samples) const {
+namespace {
+
+// The bytes every posed frame's kept sub-pixel G-buffers hold together (PosedFrame::subpixel_).
+std::atomic<double> subpixel_cache_bytes{0.0};
+
+double gbuffer_bytes(const GBuffer& gbuffer) { return static_cast<double>(gbuffer.pixel_count()) * kGBufferBytesPerPixel; }
+
+}  // namespace
+
+double pixel_samples_bytes(int width, int height, int samples, size_t frames) {
+  if (samples <= 1) return 0.0;
+  const double one = static_cast<double>(width) * height * kGBufferBytesPerPixel;
+  const double kept = std::min(kSubpixelCacheBytes, one * samples * static_cast<double>(std::max<size_t>(frames, 1)));
+  return kept + one + static_cast<double>(width) * height * 3.0 * sizeof(double);
+}
+
+PosedFrame::~PosedFrame() { subpixel_cache_bytes -= subpixel_bytes_; }
+
+void PosedFrame::for_each_subpixel_gbuffer(int samples, const std::function<void(const GBuffer&)>& visit) const {
   if (!valid_pixel_samples(samples)) throw std::logic_error(fmt::format("pixel_samples {} is not a square in [1, 256]", samples));
-  std::lock_guard<std::mutex> lock(subpixel_mutex_);
-  std::vector<GBuffer>& buffers = subpixel_[samples];
-  if (buffers.empty()) {
-    const int side = static_cast<int>(std::lround(std::sqrt(static_cast<double>(samples))));
-    for (int j = 0; j < side; ++j)
-      for (int i = 0; i < side; ++i)
-        buffers.push_back(render_gbuffer(tracer, (i + 0.5f) / static_cast<float>(side), (j + 0.5f) / static_cast<float>(side)));
+  const int side = static_cast<int>(std::lround(std::sqrt(static_cast<double>(samples))));
+  auto make = [&](int index) {
+    const int i = index % side, j = index / side;
+    return render_gbuffer(tracer, (i + 0.5f) / static_cast<float>(side), (j + 0.5f) / static_cast<float>(side));
+  };
+  const std::vector<GBuffer>* kept = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(subpixel_mutex_);
+    auto found = subpixel_.find(samples);
+    if (found != subpixel_.end()) {
+      kept = &found->second;
+    } else {
+      const double bytes = gbuffer_bytes(gbuffer) * samples;
+      double held = subpixel_cache_bytes.load();
+      // Claimed from the budget before they are made, so that two frames cannot both take its last part.
+      while (held + bytes <= kSubpixelCacheBytes && !subpixel_cache_bytes.compare_exchange_weak(held, held + bytes)) {
+      }
+      if (held + bytes <= kSubpixelCacheBytes) {
+        std::vector<GBuffer>& buffers = subpixel_[samples];
+        for (int index = 0; index < samples; ++index) buffers.push_back(make(index));
+        subpixel_bytes_ += bytes;
+        kept = &buffers;
+      }
+    }
   }
-  return buffers;
+  if (kept) {
+    for (const GBuffer& buffer : *kept) visit(buffer);
+    return;
+  }
+  for (int index = 0; index < samples; ++index) visit(make(index));
 }
 
 RestPose::RestPose(const Scene& scene, std::vector<int> frames_in) : frame(scene, 0), tracer(frame), frames(std::move(frames_in)) {}
@@ -81,8 +151,10 @@ PrepareContext prepare_context(const Scene& scene, const std::vector<int>& frame
   return PrepareContext{scene, rest->frame, rest->tracer, frames};
 }
 
-PrepareOutcome prepare_method(CausticMethod& method, const PrepareContext& context, const ParamSet& build,
-                              BuildStore* builds) {
+namespace {
+
+PrepareOutcome prepare_unguarded(CausticMethod& method, const PrepareContext& context, const ParamSet& build,
+                                 BuildStore* builds) {
   PrepareOutcome outcome;
   method.check_scene(context.scene);
   BuildCache* cache = builds ? method.build_cache() : nullptr;
@@ -127,9 +199,9 @@ PrepareOutcome prepare_method(CausticMethod& method, const PrepareContext& conte
   return outcome;
 }
 
-std::vector<SequenceOutput> play_sequence(CausticMethod& method, const std::vector<const PosedFrame*>& frames,
-                                          const ParamSet& frame_knobs, const std::vector<ParamSet>& render_sets,
-                                          const TimingProtocol& protocol) {
+std::vector<SequenceOutput> play_unguarded(CausticMethod& method, const std::vector<const PosedFrame*>& frames,
+                                           const ParamSet& frame_knobs, const std::vector<ParamSet>& render_sets,
+                                           const TimingProtocol& protocol) {
   std::vector<SequenceOutput> outputs(render_sets.size());
   for (SequenceOutput& output : outputs) {
     output.images.resize(frames.size());
@@ -153,6 +225,7 @@ std::vector<SequenceOutput> play_sequence(CausticMethod& method, const std::vect
           start = Clock::now();
           image = method.render(posed.gbuffer, render_sets[r]);
           render_ms = seconds_since(start) * 1e3;
+          check_rendered_image(image, posed.gbuffer, method);
           gpu_ms = gpu_milliseconds(method);
         } else {
           image = render_subpixels(method, posed, render_sets[r], protocol.pixel_samples, render_ms, gpu_ms);
@@ -175,6 +248,20 @@ std::vector<SequenceOutput> play_sequence(CausticMethod& method, const std::vect
     }
   }
   return outputs;
+}
+
+}  // namespace
+
+PrepareOutcome prepare_method(CausticMethod& method, const PrepareContext& context, const ParamSet& build,
+                              BuildStore* builds) {
+  return guarded(method, "check_scene() or prepare()", [&] { return prepare_unguarded(method, context, build, builds); });
+}
+
+std::vector<SequenceOutput> play_sequence(CausticMethod& method, const std::vector<const PosedFrame*>& frames,
+                                          const ParamSet& frame_knobs, const std::vector<ParamSet>& render_sets,
+                                          const TimingProtocol& protocol) {
+  return guarded(method, "update() or render()",
+                 [&] { return play_unguarded(method, frames, frame_knobs, render_sets, protocol); });
 }
 
 PhaseKnobs split_phases(const ParamSet& all, const std::vector<ParamSpec>& specs) {

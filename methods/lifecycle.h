@@ -4,6 +4,7 @@
 // the same way everywhere.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -27,14 +28,26 @@ struct PosedFrame {
   GBuffer gbuffer;  // through the pixel centres: its receiver mask is every metric's
   PosedFrame(const Scene& scene, int index);
   FrameContext context() const { return FrameContext{frame, tracer}; }
-  // `samples` G-buffers through the centres of an s x s grid of sub-pixels (s^2 = samples), made on
-  // first use and kept (thread-safe): what a method renders under the harness's pixel_samples.
-  const std::vector<GBuffer>& subpixel_gbuffers(int samples) const;
+  // Visits, in order, the `samples` G-buffers through the centres of an s x s grid of sub-pixels (s^2 =
+  // samples): what a method renders under the harness's pixel_samples. They are made on first use and
+  // kept for the next pass while all frames' kept sub-pixel G-buffers fit in kSubpixelCacheBytes;
+  // beyond that each is made, visited and freed, so that 4096^2 x 256 samples holds one at a time.
+  void for_each_subpixel_gbuffer(int samples, const std::function<void(const GBuffer&)>& visit) const;
+  ~PosedFrame();
+  PosedFrame(const PosedFrame&) = delete;
+  PosedFrame& operator=(const PosedFrame&) = delete;
 
  private:
   mutable std::mutex subpixel_mutex_;
   mutable std::map<int, std::vector<GBuffer>> subpixel_;
+  mutable double subpixel_bytes_ = 0.0;  // what subpixel_ holds, counted in the process-wide budget
 };
+
+// What the kept sub-pixel G-buffers of every posed frame of the process may hold together.
+constexpr double kSubpixelCacheBytes = 256.0 * 1024 * 1024;
+// What rendering under pixel_samples adds to a frame's memory at most (the estimate's pixel_samples term):
+// the kept sub-pixel G-buffers, up to kSubpixelCacheBytes, one more made on the way, and the mean's sums.
+double pixel_samples_bytes(int width, int height, int samples, size_t frames);
 
 // Whether `samples` is a valid pixel_samples value: a square from 1 to 256.
 bool valid_pixel_samples(int64_t samples);

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "methods/lifecycle.h"
 
 namespace causticbench {
 
@@ -23,9 +24,22 @@ MemoryEstimate estimate_frame_memory(int width, int height, const MethodInfo& me
 }
 
 MemoryEstimate estimate_run_memory(int width, int height, const CausticMethod& method, const PrepareContext& context,
-                                   const ParamSet& knobs) {
+                                   const ParamSet& knobs, int pixel_samples) {
   MemoryEstimate estimate = estimate_frame_memory(width, height, method.info());
-  estimate.terms = method.knob_memory(context, knobs);
+  try {
+    estimate.terms = method.knob_memory(context, knobs);
+  } catch (const InputError&) {
+    throw;
+  } catch (...) {
+    throw MethodError(fmt::format("knob_memory() of method {}: {}", method.info().name, current_exception_text()));
+  }
+  if (pixel_samples > 1) {
+    const double bytes = pixel_samples_bytes(width, height, pixel_samples, context.frames.size());
+    estimate.terms.push_back(MemoryTerm{{"pixel_samples"}, bytes,
+                                        fmt::format("{} sub-pixel G-buffers of {:.0f} bytes a pixel, kept up to {:.0f} MiB, "
+                                                    "and the mean's sums",
+                                                    pixel_samples, kGBufferBytesPerPixel, kSubpixelCacheBytes / 1048576.0)});
+  }
   for (const MemoryTerm& term : estimate.terms) {
     estimate.bytes += term.bytes;
     estimate.breakdown += fmt::format(" + {:.0f} MiB for {} ({})", term.bytes / 1048576.0, join(term.knobs, " and "),

@@ -33,9 +33,11 @@ struct MemoryEstimate {
 };
 
 MemoryEstimate estimate_frame_memory(int width, int height, const MethodInfo& method);
-// The frame's memory and the method's knob terms on this scene (`knobs`: every phase, resolved).
+// The frame's memory and the method's knob terms on this scene (`knobs`: every phase, resolved), and with
+// `pixel_samples` > 1 the harness's term for it (methods/lifecycle.h, pixel_samples_bytes) named
+// pixel_samples.
 MemoryEstimate estimate_run_memory(int width, int height, const CausticMethod& method, const PrepareContext& context,
-                                   const ParamSet& knobs);
+                                   const ParamSet& knobs, int pixel_samples = 1);
 
 // Bytes this process may still take: the system's MemAvailable, bounded by the cgroup's memory.max
 // where one is set. CAUSTICBENCH_AVAILABLE_MEMORY (bytes) replaces the measurement, for tests and for

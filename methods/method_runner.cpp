@@ -28,7 +28,7 @@ CheckedRequest check_request(const RenderRequest& request) {
                                  request.frame, request.scene->frames - 1, request.scene->frames,
                                  request.scene->source));
   }
-  std::unique_ptr<CausticMethod> method = checked.method->create();
+  std::unique_ptr<CausticMethod> method = create_method(info.name);
   if (!request.dump_folder.empty() && !method->gpu()) {
     throw InputError(fmt::format("--dump-frame: expected a method that can dump its frame ({}), found '{}'",
                                  join(methods_with_gpu_backend(), ", "), info.name));
@@ -37,7 +37,7 @@ CheckedRequest check_request(const RenderRequest& request) {
   if (!request.dump_folder.empty()) method->gpu()->check_frame_dump(checked.params);
   const Camera& camera = request.scene->camera;
   const RestPose rest(*request.scene, {request.frame});
-  check_memory_fits(estimate_run_memory(camera.width, camera.height, *method, rest.context(), checked.params),
+  check_memory_fits(estimate_run_memory(camera.width, camera.height, *method, rest.context(), checked.params, request.pixel_samples),
                     fmt::format("{} with {} at {}x{}", request.scene->source, info.name, camera.width, camera.height));
   return checked;
 }
@@ -45,7 +45,7 @@ CheckedRequest check_request(const RenderRequest& request) {
 FrameResult run_frame(const RenderRequest& request, const CheckedRequest& checked, Image* direct, int direct_samples) {
   FrameResult result;
   const MethodInfo& info = checked.method->info();
-  std::unique_ptr<CausticMethod> method = checked.method->create();
+  std::unique_ptr<CausticMethod> method = create_method(info.name);
   const PhaseKnobs knobs = split_phases(checked.params, info.params);
   PosedFrame posed(*request.scene, request.frame);
   const std::vector<int> frames = {request.frame};

@@ -13,6 +13,7 @@
 #include "core/errors.h"
 #include "core/hash.h"
 #include "methods/plugin.h"
+#include "methods/plugin_file.h"
 #include "methods/registry.h"
 
 namespace causticbench {
@@ -62,13 +63,22 @@ const std::vector<std::unique_ptr<PluginIdentity>>& loaded_plugins() { return pl
 
 const PluginIdentity& load_plugin(const std::string& given) {
   std::error_code error;
-  if (!fs::is_regular_file(given, error))
+  const fs::file_status status = fs::status(given, error);
+  if (!fs::exists(status))
     throw InputError(fmt::format("plugin {}: no such file (expected a shared library built against the causticbench "
                                  "SDK, docs/sdk.md)",
                                  given));
+  if (!fs::is_regular_file(status))
+    throw InputError(fmt::format("plugin {}: it is {}, not a file (expected a shared library built against the "
+                                 "causticbench SDK, docs/sdk.md)",
+                                 given, fs::is_directory(status) ? "a folder" : "not a regular file (a FIFO, socket or device)"));
   const std::string path = fs::canonical(given).string();
   for (const auto& plugin : plugins())
     if (plugin->path == path) return *plugin;
+  // A truncated library would be mapped past its end and kill the process with SIGBUS at dlopen().
+  if (const std::string problem = plugin_file_problem(path); !problem.empty())
+    throw InputError(fmt::format("plugin {}: cannot be loaded: {} (rebuild it against the causticbench SDK, docs/sdk.md)",
+                                 path, problem));
   void* library = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!library) throw InputError(fmt::format("plugin {}: cannot be loaded: {}", path, dlerror()));
   using EntryPoint = const PluginDescriptor* (*)();
@@ -106,10 +116,8 @@ const PluginIdentity& load_plugin(const std::string& given) {
   CollectingRegistrar registrar;
   try {
     descriptor->register_methods(registrar);
-  } catch (const std::exception& failure) {
-    throw InputError(fmt::format("{}: its registration failed: {}", which, failure.what()));
   } catch (...) {
-    throw InputError(fmt::format("{}: its registration threw something that is not a std::exception", which));
+    throw InputError(fmt::format("{}: its registration failed: {}", which, current_exception_text()));
   }
   if (registrar.methods.empty()) throw InputError(fmt::format("{}: it registers no method", which));
   std::set<std::string> names;
@@ -118,8 +126,8 @@ const PluginIdentity& load_plugin(const std::string& given) {
     std::string name;
     try {
       name = method.info().name;
-    } catch (const std::exception& failure) {
-      throw InputError(fmt::format("{}: a method's info() failed: {}", which, failure.what()));
+    } catch (...) {
+      throw InputError(fmt::format("{}: a method's info() failed: {}", which, current_exception_text()));
     }
     if (!valid_method_name(name))
       throw InputError(fmt::format("{}: method name '{}' is not one of lower-case letters, digits and '_' (at most 64)",

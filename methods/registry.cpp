@@ -81,12 +81,24 @@ const MethodEntry& find_method(const std::string& name) {
                                join(method_names(), ", ")));
 }
 
-std::unique_ptr<CausticMethod> create_method(const std::string& name) { return find_method(name).create(); }
+std::unique_ptr<CausticMethod> create_method(const std::string& name) {
+  const MethodEntry& entry = find_method(name);
+  try {
+    std::unique_ptr<CausticMethod> method = entry.create();
+    if (!method) throw MethodError(fmt::format("method {}: its create() returned no instance", name));
+    return method;
+  } catch (const MethodError&) {
+    throw;
+  } catch (...) {
+    // A plugin's constructor: whatever it throws fails the runs of the method, not the process.
+    throw MethodError(fmt::format("constructing method {}: {}", name, current_exception_text()));
+  }
+}
 
 std::vector<std::string> methods_with_gpu_backend() {
   std::vector<std::string> names;
   for (const MethodEntry& method : method_registry())
-    if (method.create()->gpu()) names.push_back(method.info().name);
+    if (create_method(method.info().name)->gpu()) names.push_back(method.info().name);
   return names;
 }
 

@@ -324,18 +324,26 @@ float luminance(const Image& image, size_t pixel) {
 
 // The image exposed by 2^exposure, tone mapped and clamped to [0, 1].
 Image expose(const Image& image, float exposure, FlipToneMapper tone_mapper) {
-  const float scale = std::pow(2.0f, exposure);
+  const double scale = std::pow(2.0, static_cast<double>(exposure));
   const float* c = tone_coefficients(tone_mapper);
   Image out(image.width(), image.height(), 3);
+  // In double, and the rational curve divided through by x^2 above 1: a legal E_c of 1e25 W/m^2 exposed
+  // and squared overflows float (inf / inf is NaN, and a clamp keeps NaN, which scored as no error at all).
   for_pixels(image.width(), image.height(), [&](size_t i) {
-    float rgb[3] = {scale * image.at(i, 0), scale * image.at(i, 1), scale * image.at(i, 2)};
-    const float reinhard_divisor = 1.0f + 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
+    const double rgb[3] = {scale * image.at(i, 0), scale * image.at(i, 1), scale * image.at(i, 2)};
+    const double reinhard_divisor = 1.0 + 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
     for (int k = 0; k < 3; ++k) {
-      const float x = rgb[k];
-      const float mapped = tone_mapper == FlipToneMapper::reinhard
-                               ? x / reinhard_divisor
-                               : (c[0] * x * x + c[1] * x + c[2]) / (c[3] * x * x + c[4] * x + c[5]);
-      out.at(i, k) = std::clamp(mapped, 0.0f, 1.0f);
+      const double x = rgb[k];
+      double mapped;
+      if (tone_mapper == FlipToneMapper::reinhard) {
+        mapped = x / reinhard_divisor;
+      } else if (x <= 1.0) {
+        mapped = (c[0] * x * x + c[1] * x + c[2]) / (c[3] * x * x + c[4] * x + c[5]);
+      } else {
+        const double inverse = 1.0 / x;
+        mapped = (c[0] + (c[1] + c[2] * inverse) * inverse) / (c[3] + (c[4] + c[5] * inverse) * inverse);
+      }
+      out.at(i, k) = static_cast<float>(std::isnan(mapped) ? 1.0 : std::clamp(mapped, 0.0, 1.0));
     }
   });
   return out;

@@ -212,39 +212,52 @@ MetricValue frame_metric(const std::string& name, const Image& test, const Image
 
 }  // namespace
 
+// What a metric of images of float values can be at most (the record check's bounds, MetricInfo::maximum):
+// every channel lies in [0, FLT_MAX], a positive one is at least the smallest denormal, and an image has
+// at most 16384^2 pixels (core/camera.cpp's resolution limit) of 3 channels. So a reference's positive
+// mean is at least denorm_min / (3 N), relMSE's eps at least a hundredth of its square, an error at most
+// FLT_MAX, and a nonzero mse at least denorm_min^2 / (3 N).
+constexpr double kLargestValue = std::numeric_limits<float>::max();
+constexpr double kSmallestValue = std::numeric_limits<float>::denorm_min();
+constexpr double kMostChannels = 3.0 * 16384.0 * 16384.0;
+constexpr double kSmallestMean = kSmallestValue / kMostChannels;
+const double kMostPsnr = 10.0 * std::log10(kLargestValue / kSmallestValue * kLargestValue / kSmallestValue * kMostChannels);
+const double kLeastPsnr = 10.0 * std::log10(kSmallestValue / kLargestValue * kSmallestValue / kLargestValue);
+
 const std::vector<MetricInfo>& metric_registry() {
   static const std::vector<MetricInfo> registry = {
       {"mse", false, std::nullopt, "(W/m^2)^2", "mean over masked finite pixels and RGB channels of (test - reference)^2",
-       true},
-      {"rmse", false, std::nullopt, "W/m^2", "square root of mse", true},
+       true, 0.0, kLargestValue * kLargestValue},
+      {"rmse", false, std::nullopt, "W/m^2", "square root of mse", true, 0.0, kLargestValue},
       {"psnr", true, std::nullopt, "dB",
        "10 log10(peak^2 / mse), peak = largest reference channel value over the mask; +inf when mse = 0; undefined "
        "when peak = 0",
-       true},
+       true, kLeastPsnr, kMostPsnr},
       {"ssim", true, std::nullopt, "",
        "mean over masked finite pixels of the SSIM map (OpenCV, 11x11 Gaussian sigma 1.5) of Rec. 709 luminance, "
        "dynamic range = the reference's largest masked luminance; undefined when that is 0",
-       true},
+       true, -1.0, 1.0},
       {"relmse", false, std::nullopt, "",
        "mean over masked finite pixels and RGB channels of (test - reference)^2 / (reference^2 + eps), "
        "eps = (0.1 mean reference)^2; undefined when that mean is 0",
-       true},
+       true, 0.0, kLargestValue * kLargestValue / (0.01 * kSmallestMean * kSmallestMean)},
       {"energy_ratio", false, 1.0, "",
        "sum of test over masked finite pixels / sum of reference over them (channel mean); best is closest to 1; "
        "undefined when the reference's sum is 0",
-       true},
+       true, 0.0, kLargestValue / kSmallestMean},
       {"max_error", false, std::nullopt, "W/m^2",
-       "largest |test - reference| over masked finite pixels and RGB channels", true},
+       "largest |test - reference| over masked finite pixels and RGB channels", true, 0.0, kLargestValue},
       {"flip", false, std::nullopt, "",
        "mean over masked finite pixels of the HDR-FLIP map (NVIDIA FLIP v1.6, ACES, 67 ppd), exposures from the "
        "reference's masked max and lit median luminance; undefined when that max is 0",
-       true},
+       true, 0.0, 1.0},
       {"temporal_flicker", false, std::nullopt, "",
        "mean over frames t>=1 of masked mean |(test_t - test_t-1) - (reference_t - reference_t-1)|, divided by "
        "the reference's masked mean over all frames; undefined when that mean is 0",
-       false},
+       false, 0.0, 2.0 * kLargestValue / kSmallestMean},
       {"nonfinite_pixels", false, std::nullopt, "pixels",
-       "number of masked test pixels with a NaN or infinite channel (excluded from the other metrics)", true},
+       "number of masked test pixels with a NaN or infinite channel (excluded from the other metrics)", true, 0.0,
+       kMostChannels / 3.0},
   };
   return registry;
 }

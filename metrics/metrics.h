@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,6 +23,11 @@ struct MetricInfo {
   std::string unit;              // "(W/m^2)^2", "W/m^2", "dB", "" (dimensionless), "pixels"
   std::string definition;        // one line
   bool per_frame = true;         // false only for temporal_flicker (needs a sequence)
+  // What a value can be (the record check refuses a stored value outside, or an infinite one): ssim in
+  // [-1, 1], flip in [0, 1], the others within what images of float values can give (metrics.cpp derives
+  // each bound; psnr's +inf, for mse 0, is stored as undefined).
+  double minimum = 0.0;
+  double maximum = std::numeric_limits<double>::infinity();
 };
 
 // Every metric, in a fixed order (the order reports list them in).

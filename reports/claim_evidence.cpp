@@ -14,13 +14,21 @@ namespace causticbench::report_detail {
 namespace {
 
 std::string code_text(const std::string& text, Format format) {
-  if (format == Format::markdown) return "`" + text + "`";
+  if (format == Format::markdown) {
+    // A code span is literal (HTML in it is shown, not run) as long as its fence is longer than any run
+    // of backticks inside: a user's backtick must not close it.
+    size_t longest = 0, run = 0;
+    for (char c : text) longest = std::max(longest, run = c == '`' ? run + 1 : 0);
+    const std::string fence(longest + 1, '`');
+    const bool pad = !text.empty() && (text.front() == '`' || text.back() == '`');
+    return fence + (pad ? " " : "") + text + (pad ? " " : "") + fence;
+  }
   if (format == Format::html) return "<code>" + html_escape(text) + "</code>";
   return text;
 }
 
 std::string escaped(const std::string& text, Format format) {
-  return format == Format::html ? html_escape(text) : text;
+  return format == Format::html ? html_escape(text) : format == Format::markdown ? md_text(text) : text;
 }
 
 std::string runs_text(size_t count) { return fmt::format("{} run{}", count, count == 1 ? "" : "s"); }

@@ -47,7 +47,15 @@ std::vector<std::pair<std::string, std::string>> experiment_facts(const Report& 
   };
   std::string resolution = resolution_text(member(report.experiment, "resolution"));
   if (!report.multi() && !resolution.empty()) facts.push_back({"resolution", resolution});
-  add("frames", member(report.experiment, "frames"));
+  // The frame indices measured, with their count: "frames: 0" read as "no frames".
+  if (const json& frames = member(report.experiment, "frames"); frames.is_array()) {
+    std::vector<std::string> indices;
+    for (const json& frame : frames) indices.push_back(value_text(frame));
+    facts.push_back({"frames", fmt::format("{} frame{}: {}", indices.size(), indices.size() == 1 ? "" : "s",
+                                           indices.size() == 1 ? "index " + indices.front() : join(indices, ", "))});
+  } else {
+    add("frames", frames);
+  }
   add("repetitions", member(report.experiment, "repetitions"));
   // Which build of each plugin the runs measured (methods/plugins.h): its hash is in their keys.
   if (const json& plugins = member(report.experiment, "plugins"); plugins.is_array() && !plugins.empty()) {

@@ -11,19 +11,6 @@
 
 namespace causticbench::report_detail {
 
-namespace {
-
-// JSON placed inside a <script> element: no "</script>" or "<!--" may appear in it. '<' occurs in JSON
-// only inside strings, where \u003c means the same character.
-std::string script_json(const json& value) {
-  std::string text = value.dump(), out;
-  out.reserve(text.size());
-  for (char c : text) out += c == '<' ? std::string("\\u003c") : std::string(1, c);
-  return out;
-}
-
-}  // namespace
-
 void html_table(std::string& out, const Table& table) {
   out += "<div class=\"scroll\"><table><thead><tr>";
   for (size_t c = 0; c < table.header.size(); ++c) {

@@ -25,7 +25,8 @@ void markdown_table(std::string& out, const Table& table) {
   for (const auto& row : table.rows) {
     out += "|";
     for (const Cell& cell : row) {
-      std::string text = cell.best ? "**" + md_escape(cell.text) + "**" : md_escape(cell.text);
+      const std::string escaped = cell.markdown ? md_table_cell(cell.text) : md_escape(cell.text);
+      std::string text = cell.best ? "**" + escaped + "**" : escaped;
       if (!cell.undefined.empty()) text = fmt::format("\u2014 [{}]", note_number(notes, cell.undefined));
       out += " " + text + " |";
     }
@@ -44,7 +45,7 @@ void views_markdown(std::string& out, const Report& report) {
   out += "## Equal time and equal error\n\n" + views_caption(report) + "\n\n";
   for (size_t v = 0; v < report.views.size(); ++v) {
     if (report.views[v].points.empty()) continue;
-    std::string in = report.multi() ? " (variant " + report.variants[v].name + ")" : "";
+    std::string in = report.multi() ? " (variant " + md_text(report.variants[v].name) + ")" : "";
     out += "### Equal time" + in + "\n\n";
     markdown_table(out, equal_time_table(report, v));
     out += "### Equal error" + in + "\n\n";
@@ -63,7 +64,7 @@ std::string markdown_document(const Report& report) {
   std::string out;
   out += fmt::format("# causticbench report: {}\n\n", report.name);
   std::string description = string_member(report.experiment, "description");
-  if (!description.empty()) out += description + "\n\n";
+  if (!description.empty()) out += md_text(description) + "\n\n";
   out += "Plots (trade-off, convergence, sweeps) are in report.html.\n\n";
 
   out += "## Environment\n\n```\n";
@@ -76,9 +77,9 @@ std::string markdown_document(const Report& report) {
   out += "```\n\n";
 
   out += "## Experiment\n\n";
-  for (const auto& [key, value] : experiment_facts(report)) out += fmt::format("- {}: {}\n", key, value);
+  for (const auto& [key, value] : experiment_facts(report)) out += fmt::format("- {}: {}\n", md_text(key), md_text(value));
   out += "\n";
-  for (const std::string& note : report.notes) out += "> **Note:** " + note + "\n\n";
+  for (const std::string& note : report.notes) out += "> **Note:** " + md_text(note) + "\n\n";
   out += "## Summary\n\n";
   for (const std::string& line : findings(report, false)) out += "- " + line + "\n";
   out += "\n";
@@ -91,7 +92,7 @@ std::string markdown_document(const Report& report) {
     for (const ClaimResult& result : report.claims)
       claims.rows.push_back({{string_member(result.claim, "text", "(no text)")},
                              {verdict_name(result.verdict)},
-                             {claim_evidence(report, result, Format::markdown)}});
+                             {claim_evidence(report, result, Format::markdown), false, false, false, {}, {}, true}});
     markdown_table(out, claims);
   }
 
@@ -120,11 +121,11 @@ std::string markdown_document(const Report& report) {
     markdown_table(out, failed);
   }
   if (!report.missing.empty()) {
-    out += "## Runs not run yet\n\n" + join(report.missing, ", ") + "\n\n";
+    out += "## Runs not run yet\n\n" + md_text(join(report.missing, ", ")) + "\n\n";
   }
   const json& paper = member(report.experiment, "paper");
   if (paper.is_object()) {
-    out += fmt::format("## Paper: {}\n\n", string_member(paper, "title", "published numbers"));
+    out += fmt::format("## Paper: {}\n\n", md_text(string_member(paper, "title", "published numbers")));
     markdown_table(out, paper_table(report));
   }
   if (!report.thumbnails.empty()) {

@@ -222,8 +222,10 @@ void add_more_frames(ViewerData& viewer, const Report& report, const std::vector
   }
   if (bytes <= 0.0) return;
   const double budget = report.viewer_more_frames_bytes;
-  const size_t stride = budget <= 0.0 ? std::numeric_limits<size_t>::max()
-                                      : std::max<size_t>(1, static_cast<size_t>(std::ceil(bytes / budget)));
+  // In double first: a budget of 1e-300 MB makes the ratio larger than any size_t, and its conversion
+  // undefined (it once came out 0: every frame kept).
+  const double ratio = budget > 0.0 ? std::ceil(bytes / budget) : std::numeric_limits<double>::infinity();
+  const size_t stride = ratio >= 1e18 ? std::numeric_limits<size_t>::max() : std::max<size_t>(1, static_cast<size_t>(ratio));
   for (const auto& [i, place] : runs) {
     const Run& run = report.runs[i];
     json& entry = viewer.index()["runs"][place];

@@ -10,6 +10,7 @@
 
 #include "core/errors.h"
 #include "store/record_check.h"
+#include "store/result_paths.h"
 #include "experiments/report_settings.h"
 #include "reports/report_parts.h"
 
@@ -100,16 +101,8 @@ void load_report(Report& report, const std::string& folder_text) {
   if (folder.filename().empty()) folder = folder.parent_path();
   report.folder = folder;
   if (!fs::is_regular_file(folder / "experiment.json")) {
-    std::vector<std::string> inside;
-    for (const auto& entry : fs::directory_iterator(folder, error)) {
-      if (entry.is_directory() && fs::is_regular_file(entry.path() / "experiment.json"))
-        inside.push_back((fs::path(folder_text) / entry.path().filename()).string());
-    }
-    std::sort(inside.begin(), inside.end());
-    std::string hint = inside.empty() ? "; `causticbench run EXPERIMENT.yaml` writes one as results/<experiment>/"
-                                      : "; the experiment folders inside it are: " + join(inside, ", ");
-    throw InputError(
-        fmt::format("'{}' is not an experiment results folder: it has no experiment.json{}", folder_text, hint));
+    throw InputError(fmt::format("'{}' is not an experiment results folder: it has no experiment.json{}", folder_text,
+                                 experiment_folders_hint(folder_text)));
   }
   report.experiment = read_json(folder / "experiment.json");
   if (!report.experiment.is_object())

@@ -59,6 +59,7 @@ struct Cell {
   bool warn = false;
   std::string undefined = {};  // why the cell has no value: shown as a footnote (and, in HTML, on hover)
   std::string link = {};       // HTML: the text links here (a relative URL)
+  bool markdown = false;       // Markdown: the text is Markdown already, its user text escaped (md_text)
 };
 
 struct Table {

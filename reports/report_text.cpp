@@ -121,9 +121,33 @@ std::string html_escape(const std::string& text) {
   return out;
 }
 
-std::string md_escape(const std::string& text) {
+std::string script_json(const nlohmann::json& value) {
+  const std::string text = value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   std::string out;
+  out.reserve(text.size());
+  for (char c : text) out += c == '<' ? std::string("\\u003c") : std::string(1, c);
+  return out;
+}
+
+std::string md_text(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
   for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string md_escape(const std::string& text) { return md_table_cell(md_text(text)); }
+
+std::string md_table_cell(const std::string& markdown) {
+  std::string out;
+  for (char c : markdown) {
     if (c == '|')
       out += "\\|";
     else if (c == '\n' || c == '\r')

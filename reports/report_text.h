@@ -37,7 +37,16 @@ void flatten(const nlohmann::json& value, const std::string& prefix,
              std::vector<std::pair<std::string, std::string>>& out);
 
 std::string html_escape(const std::string& text);
-// A Markdown table cell: '|' escaped, line breaks as spaces.
+// JSON placed inside a <script> element: no "</script>", "<!--" or "<script" may appear in it, so every
+// '<' (JSON has it only inside strings) is written \u003c, which means the same character. Bytes that are
+// not UTF-8 become U+FFFD.
+std::string script_json(const nlohmann::json& value);
+// Text a user supplied (a label, a knob value, a claim, a description, an error) in Markdown: '&', '<' and
+// '>' as HTML entities, so that a renderer that keeps HTML shows `<img onerror=...>` instead of running it.
+std::string md_text(const std::string& text);
+// A Markdown table cell of Markdown text: '|' escaped and line breaks as spaces.
+std::string md_table_cell(const std::string& markdown);
+// A Markdown table cell of a user's text: md_text, then md_table_cell.
 std::string md_escape(const std::string& text);
 // Letters, digits, '-' and '_' kept, anything else '_': a file name ("run" when empty).
 std::string file_safe(const std::string& text);

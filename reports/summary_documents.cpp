@@ -164,7 +164,7 @@ std::string experiments_line(const StudySummary& summary) {
 
 std::string summary_markdown(const StudySummary& summary) {
   std::string out = "# causticbench study summary\n\n" + std::string(kIntroduction) + "\n\n";
-  out += experiments_line(summary) + "\n\n";
+  out += md_text(experiments_line(summary)) + "\n\n";
   out += "## Best method per frame budget\n\n";
   markdown_table(out, budgets_table(summary));
   out += "## Where each method wins and fails\n\n";
@@ -175,11 +175,11 @@ std::string summary_markdown(const StudySummary& summary) {
   bool any = false;
   break_even_sections(summary, [&](const SummaryScene& scene, const Table& table) {
     any = true;
-    out += "### " + scene.title + "\n\n";
+    out += "### " + md_text(scene.title) + "\n\n";
     markdown_table(out, table);
   });
   if (!any) out += "No method that precomputes more overtakes another of equal or better error.\n\n";
-  out += "## Claims\n\n" + claims_total(summary) + "\n\n";
+  out += "## Claims\n\n" + md_text(claims_total(summary)) + "\n\n";
   markdown_table(out, claims_table(summary));
   for (const Report& report : summary.experiments)
     if (std::optional<CapabilityMatrix> matrix = report_capability_matrix(report))

@@ -10,9 +10,8 @@ namespace causticbench::report_detail {
 std::string viewer_document(const Report& report) {
   json index = report.viewer;
   index["experiment"] = report.name;
-  // In a <script> element "</" would end it early: JSON allows "<\/" for it.
-  std::string text = index.dump();
-  for (size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3)) text.replace(at, 2, "<\\/");
+  // Escaped as the report's own plots are: "<!--" in a label would otherwise blank the page.
+  const std::string text = script_json(index);
   std::string page = kViewerPage;
   const std::string placeholder = "\"__CAUSTICBENCH_VIEWER_INDEX__\"";
   const size_t at = page.find(placeholder);

@@ -1,11 +1,14 @@
 #include "store/record_check.h"
 
+#include <cmath>
 #include <filesystem>
+#include <limits>
 #include <initializer_list>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include "metrics/metrics.h"
 #include "store/run_record.h"
 #include "store/store_files.h"
 
@@ -73,15 +76,39 @@ std::string image_problem(const nlohmann::json& record, const std::string& run_f
 // A negative time or size cannot have been measured: an ok record holding one was edited or damaged, and
 // counting it would put it on a front (issue 30, 13). (A value beyond the largest double, 1.8e308, is no
 // JSON number at all: such a record fails to parse and is damaged already.)
+// A metric's value as stored: undefined (null, read as NaN), or finite within what the metric can be
+// (MetricInfo::minimum and maximum). An infinite value cannot have been computed and stored (JSON has
+// none; a number such as 1.8e308, beyond the largest double, reads as infinite), and FLIP 3 cannot be.
+std::string metric_values_problem(const std::map<std::string, double>& metrics, const std::string& where) {
+  for (const auto& [name, value] : metrics) {
+    if (std::isnan(value)) continue;
+    const MetricInfo* metric = metric_info(name);
+    const double minimum = metric ? metric->minimum : -std::numeric_limits<double>::infinity();
+    const double maximum = metric ? metric->maximum : std::numeric_limits<double>::infinity();
+    if (!std::isfinite(value) || value < minimum || value > maximum)
+      return fmt::format("{}metric {} is {}: expected a finite value in [{}, {}]", where, name, value, minimum, maximum);
+  }
+  return "";
+}
+
 std::string measured_value_problem(const RunRecord& record) {
   for (const FrameRecord& frame : record.frames) {
     for (const auto* series : {&frame.update_ms, &frame.render_ms, &frame.gpu_render_ms})
       for (double value : *series)
-        if (value < 0.0) return fmt::format("frame {} holds a time of {} ms: expected a finite time >= 0", frame.frame, value);
+        if (!(value >= 0.0 && std::isfinite(value)))
+          return fmt::format("frame {} holds a time of {} ms: expected a finite time >= 0", frame.frame, value);
+    if (std::string problem = metric_values_problem(frame.metrics, fmt::format("frame {}: ", frame.frame)); !problem.empty())
+      return problem;
+  }
+  if (std::string problem = metric_values_problem(record.metrics, ""); !problem.empty()) return problem;
+  if (record.seeds) {
+    for (const SeedRun& seed : record.seeds->runs)
+      if (std::string problem = metric_values_problem(seed.metrics, fmt::format("seed {}: ", seed.seed)); !problem.empty())
+        return problem;
   }
   const PrepareRecord& prepare = record.prepare;
   for (double value : {prepare.prepare_seconds, prepare.load_seconds, prepare.save_seconds})
-    if (value < 0.0) return fmt::format("a prepare time of {} s: expected a finite time >= 0", value);
+    if (!(value >= 0.0 && std::isfinite(value))) return fmt::format("a prepare time of {} s: expected a finite time >= 0", value);
   if (record.memory_bytes < 0 || record.peak_rss_bytes < 0)
     return fmt::format("a memory size of {} bytes: expected a size >= 0", std::min(record.memory_bytes, record.peak_rss_bytes));
   if (record.lost_flux && !(record.lost_flux->worst.fraction >= 0.0 && record.lost_flux->worst.fraction <= 1.0))

@@ -13,6 +13,11 @@ void check_results_folder(const std::string& path);
 // The same check for any folder an option names (`option` and `what` in the message): a writable folder, or
 // one that can be made below a writable one; InputError (exit 2) otherwise.
 void check_writable_folder(const std::string& option, const std::string& what, const std::string& path);
+// For a folder that is no experiment's results folder (no experiment.json): "; the experiment folders
+// inside it are: results/a, results/b" when it holds some (a results folder given for an experiment's),
+// else "; `causticbench run EXPERIMENT.yaml` writes one as results/<experiment>/". `given` as the user
+// typed it, so that the paths shown can be copied.
+std::string experiment_folders_hint(const std::string& given);
 
 struct ResultPaths {
   std::string results;  // the results root, e.g. "results"

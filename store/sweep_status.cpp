@@ -1,5 +1,7 @@
 #include "store/sweep_status.h"
 
+#include "store/result_paths.h"
+
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -56,8 +58,8 @@ std::vector<ListedRun> runs_of_experiment_json(const std::string& folder, std::s
   std::optional<std::string> text = read_file_bytes(path);
   if (!text) {
     throw InputError(fmt::format("{}: expected an experiment's results folder (with experiment.json, written by "
-                                 "`causticbench run`, or slurm/shard-plan.json, written by `causticbench slurm`)",
-                                 folder));
+                                 "`causticbench run`, or slurm/shard-plan.json, written by `causticbench slurm`){}",
+                                 folder, experiment_folders_hint(folder)));
   }
   nlohmann::json json = nlohmann::json::parse(*text, nullptr, false);
   if (json.is_discarded() || !json.contains("runs") || !json["runs"].is_array()) {

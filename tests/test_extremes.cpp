@@ -32,6 +32,7 @@ using nlohmann::json;
 std::string tiny_copy(const std::string& text) {
   std::string tiny = testing::tiny_experiment(text, 16);
   tiny = std::regex_replace(tiny, std::regex("rays_per_side: 256"), "rays_per_side: 64");
+  tiny = std::regex_replace(tiny, std::regex("photons_per_direction: 20000"), "photons_per_direction: 4000");
   return std::regex_replace(tiny, std::regex("photons_per_sample: 200000"), "photons_per_sample: 20000");
 }
 
@@ -117,6 +118,11 @@ TEST(Extremes, EveryMethodAndCaseHasAFiniteResultOrAClearError) {
         EXPECT_NE(error.find(csl_declared_defaults()), std::string::npos)
             << where << ": " << error << " should name " << csl_declared_defaults();
       }
+    }
+    // Issue 50, item 3: every native method runs every physical extreme (caustic_volume's abort on a point
+    // light on a vertex went unseen while the study left it out).
+    if (experiment.name == "study_extremes") {
+      for (const std::string& method : native_method_names()) EXPECT_TRUE(methods.count(method)) << method << " is not in " << file;
     }
     if (experiment.name == "study_extremes_knobs") {
       for (const std::string& setting : kMustStop)

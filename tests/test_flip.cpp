@@ -385,8 +385,36 @@ TEST(FlipMetric, MostlyBlackReferenceGivesAFiniteNonTrivialValue) {
   EXPECT_EQ(flip_error_map(s.test, s.reference, s.mask).pixel_count(), s.reference.pixel_count());
 }
 
-// Not an assertion: HDR-FLIP runs for every stored run, so its cost is printed.
-TEST(FlipTiming, HdrFlipOn256And512) {
+// Issue 50, item 8: every finite non-negative image a method may write is scored, however bright. A constant
+// 1e25 W/m^2 image once scored FLIP 0 (the tone curve's x^2 overflowed float, and a clamp keeps NaN): it
+// saturates every exposure exactly as a constant 1e6 does, so their maps are equal, and far from 0.
+TEST(FlipMetric, HugeFiniteImagesScoreAsSaturatedNotAsPerfect) {
+  CausticCase s;
+  const double saturated = caustic_flip(Image(CausticCase::kSize, CausticCase::kSize, 3, 1e6f), s.reference, s.mask).mean;
+  EXPECT_GT(saturated, 0.3) << "a white image against a caustic";
+  for (float value : {1e20f, 1e25f, 1e30f, std::numeric_limits<float>::max()}) {
+    SCOPED_TRACE(value);
+    const Image huge(CausticCase::kSize, CausticCase::kSize, 3, value);
+    MetricValues m = compute_metrics(huge, s.reference, s.mask, {"flip", "relmse", "energy_ratio"});
+    ASSERT_TRUE(m.values.count("flip"));
+    EXPECT_EQ(m.values.at("flip"), saturated);
+    EXPECT_TRUE(std::isfinite(m.values.at("relmse")));
+    EXPECT_GT(m.values.at("relmse"), 1e20);
+    // Every map value is finite and in [0, 1], under each tone mapper.
+    for (FlipToneMapper mapper : {FlipToneMapper::aces, FlipToneMapper::hable, FlipToneMapper::reinhard}) {
+      FlipOptions options;
+      options.tone_mapper = mapper;
+      CausticFlip flip = caustic_flip(huge, s.reference, s.mask, options);
+      for (float v : flip.error_map.values()) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << v;
+      EXPECT_GT(flip.mean, 0.3);
+    }
+  }
+}
+
+// A benchmark, not a test (it asserts nothing, so CTest does not run it): HDR-FLIP runs for every stored
+// run, and its cost is printed by
+//   build/tests/test_flip --gtest_also_run_disabled_tests --gtest_filter='FlipTiming.*'
+TEST(FlipTiming, DISABLED_HdrFlipOn256And512) {
   for (int size : {256, 512}) {
     // Luminances spread over 12 stops, as in a caustic: about 6 exposures.
     Image reference = random_image(size, size, 11), test = random_image(size, size, 12);

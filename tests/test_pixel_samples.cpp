@@ -96,7 +96,8 @@ TEST(PixelSamples, PointsOnNoReceiverCountZero) {
   StepMethod method;
   Image image = play(scene, method, 16);
   PosedFrame posed(scene, 0);
-  const std::vector<GBuffer>& points = posed.subpixel_gbuffers(16);
+  std::vector<GBuffer> points;
+  posed.for_each_subpixel_gbuffer(16, [&](const GBuffer& buffer) { points.push_back(buffer); });
   ASSERT_EQ(points.size(), 16u);
   int partial = 0;
   for (size_t pixel = 0; pixel < 64; ++pixel) {

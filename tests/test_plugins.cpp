@@ -6,6 +6,7 @@
 // message naming it, nothing stored; and the example built out of the tree against an installed SDK.
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -144,6 +145,10 @@ methods:
 TEST_F(Plugins, BadPluginsAreRefusedWithExitTwoAndNothingStored) {
   fs::copy_file(plugin("example"), folder.path("splat.so"));
   folder.write("text.so", "not a shared library\n");
+  // Cut in half: dlopen() would map its segments past the end of the file and die of SIGBUS (issue 50, 4).
+  fs::copy_file(plugin("example"), folder.path("truncated.so"));
+  fs::resize_file(folder.path("truncated.so"), fs::file_size(plugin("example")) / 2);
+  fs::create_directory(folder.path("folder.so"));
   const struct {
     std::string path, message;
   } cases[] = {
@@ -152,7 +157,10 @@ TEST_F(Plugins, BadPluginsAreRefusedWithExitTwoAndNothingStored) {
       {plugin("throwing"), "plugin throwing (" + plugin("throwing") + "): its registration failed: the licence file licence.txt is missing"},
       {plugin("clash"), "its method 'photon_map' clashes with the built-in method of that name"},
       {folder.path("missing.so"), "plugin " + folder.path("missing.so") + ": no such file"},
-      {folder.path("text.so"), ": cannot be loaded: "},
+      {folder.path("text.so"), ": cannot be loaded: it is not an ELF shared library"},
+      {folder.path("truncated.so"), ": the file is truncated"},
+      {folder.path("folder.so"), "plugin " + folder.path("folder.so") + ": it is a folder, not a file"},
+      {plugin("info_throws"), "a method's info() failed: it threw a value of type int, which is not a std::exception"},
   };
   for (const auto& bad : cases) {
     SCOPED_TRACE(bad.path);
@@ -166,7 +174,63 @@ TEST_F(Plugins, BadPluginsAreRefusedWithExitTwoAndNothingStored) {
     EXPECT_NE(output.find(bad.message), std::string::npos) << output;
     EXPECT_TRUE(records("refused").empty());
     EXPECT_FALSE(fs::exists(folder.path("results") + "/references")) << "no reference computed";
+    // Through the environment, for a command that loads no plugin of its own.
+    EXPECT_EQ(testing::run_command("CAUSTICBENCH_PLUGINS=" + bad.path + " " + causticbench("validate " + file), output), 2) << output;
+    EXPECT_NE(output.find(bad.message), std::string::npos) << output;
   }
+}
+
+// Issue 50, items 1 and 2: a method whose render() returns an image smaller than the G-buffer, one that
+// throws an int, and one whose constructor throws a std::string each fail their runs alone, with a
+// message; photon_map after them runs; `render` exits with 1 and says why; `conform` prints FAIL for the
+// size check instead of crashing.
+TEST_F(Plugins, AMethodThatBreaksTheInterfaceFailsItsRunAlone) {
+  const std::string file = folder.write("hostile.yaml", R"(name: hostile
+scene: scene.yaml
+reference: {photons_per_pass: 100000, max_passes: 2, target_error: 0}
+repetitions: 1
+plugins: [)" + plugin("hostile") + R"(]
+methods:
+  - method: shrunken
+  - method: int_thrower
+  - method: constructor_thrower
+  - method: photon_map
+    build: {photons: 20000}
+)");
+  std::string output;
+  ASSERT_EQ(testing::run_command(causticbench("run " + file + " --results " + folder.path("results") + " --no-report"), output), 0)
+      << output;
+  EXPECT_NE(output.find("1 run now, 3 failed"), std::string::npos) << output;
+  const std::map<std::string, std::string> expected = {
+      {"shrunken", "shrunken's render() returned a 12x12 image with 3 channels; expected 24x24 with 3 (RGB)"},
+      {"int_thrower", "update() or render() of method int_thrower: it threw a value of type int, which is not a std::exception"},
+      {"constructor_thrower", "constructing method constructor_thrower: it threw a value of type std::"},
+  };
+  size_t seen = 0;
+  for (const json& record : records("hostile")) {
+    const std::string method = record["method"];
+    if (method == "photon_map") {
+      EXPECT_EQ(record["status"], "ok") << record.dump();
+      continue;
+    }
+    ++seen;
+    EXPECT_EQ(record["status"], "failed") << method;
+    EXPECT_NE(record.value("error", "").find(expected.at(method)), std::string::npos) << record.value("error", "");
+  }
+  EXPECT_EQ(seen, 3u);
+  for (const auto& [method, message] : expected) {
+    EXPECT_EQ(testing::run_command(causticbench("render " + folder.path("scene.yaml") + " --method " + method + " --out " +
+                                                folder.path("render_" + method) + " --plugin " + plugin("hostile")),
+                                   output),
+              1)
+        << output;
+    EXPECT_NE(output.find("error: "), std::string::npos) << output;
+    EXPECT_NE(output.find(message), std::string::npos) << output;
+  }
+  EXPECT_EQ(testing::run_command(causticbench("conform --plugin " + plugin("hostile") + " shrunken"), output), 1) << output;
+  EXPECT_NE(output.find("FAIL     Registry/Conformance.OutputIsWellFormedOnEveryShippedSceneItAccepts/shrunken"),
+            std::string::npos)
+      << output;
 }
 
 // `conform`: the suites every built-in method passes, on a plugin's methods. The example passes them; a

@@ -388,7 +388,12 @@ TEST(StoredRecords, ImpossibleMeasurementsAreDamaged) {
        "a prepare time of -1 s"},
       // Beyond the largest double: no JSON reader takes it as a number, so the record is damaged whole.
       {"overflowing metric", [](nlohmann::json& r) { r["metrics"]["relmse"] = std::numeric_limits<double>::infinity(); },
-       "record.json"}};
+       "record.json"},
+      // Issue 50, item 9: finite, but more than float images can give (relMSE at most about 3.8e186).
+      {"relmse beyond what images give", [](nlohmann::json& r) { r["metrics"]["relmse"] = 1.79e308; },
+       "metric relmse is 1.79e+308: expected a finite value in [0, 3.82"},
+      {"flip above 1", [](nlohmann::json& r) { r["frames"][0]["metrics"]["flip"] = 3.0; },
+       "frame 0: metric flip is 3: expected a finite value in [0, 1]"}};
   for (const Edit& edit : edits) {
     nlohmann::json edited = record;
     edit.apply(edited);

@@ -68,6 +68,15 @@ Through leave_solid(const Tracer& tracer, int object, const glm::dvec3& entry, c
   return Through::trapped;
 }
 
+// Whether light from `light` arrives at `point` along a direction: a point light at the point itself (placed
+// on a tessellated vertex, or on a ring's rim) has none there, and the point is taken as unlit (its
+// triangles' light is counted as dropped). Within the tracer's offset the direction would be noise.
+bool light_has_direction(const LightFrame& light, const glm::dvec3& point, double epsilon) {
+  if (light.kind == LightKind::directional) return true;
+  const glm::dvec3 d = point - glm::dvec3(light.position);
+  return glm::dot(d, d) > epsilon * epsilon;
+}
+
 glm::dvec3 light_travel(const LightFrame& light, const glm::dvec3& point) {
   if (light.kind == LightKind::directional) return -glm::dvec3(light.direction_to_light);
   return glm::normalize(point - glm::dvec3(light.position));
@@ -84,6 +93,7 @@ Color light_strength(const LightFrame& light, const glm::dvec3& point) {
 VertexRay vertex_ray(const Tracer& tracer, int object, const LightFrame& light, const glm::dvec3& point,
                      const glm::dvec3& normal, double side, const Material& material, Refraction refraction) {
   VertexRay ray;
+  if (!light_has_direction(light, point, tracer.epsilon())) return ray;  // leaves: false, no light
   ray.light = light_travel(light, point);
   ray.strength = light_strength(light, point);
   ray.origin = point;
@@ -172,7 +182,9 @@ void build_volumes(const Tracer& tracer, const LightFrame& light, const SurfaceM
   for (size_t index = 0; index < triangle_count; ++index) {
     const glm::uvec3& triangle = mesh.triangles[index];
     const glm::dvec3 p0 = mesh.positions[triangle.x], p1 = mesh.positions[triangle.y], p2 = mesh.positions[triangle.z];
-    const double facing = glm::dot(glm::cross(p1 - p0, p2 - p0), light_travel(light, (p0 + p1 + p2) / 3.0));
+    const glm::dvec3 centroid = (p0 + p1 + p2) / 3.0;
+    if (!light_has_direction(light, centroid, tracer.epsilon())) continue;  // the light on its face: edge-on
+    const double facing = glm::dot(glm::cross(p1 - p0, p2 - p0), light_travel(light, centroid));
     facing_side[index] = facing < 0.0 ? 1.0 : facing > 0.0 ? -1.0 : 0.0;
   }
   // The side of its normal a corner of triangle `index` is lit on (0: the side the normal faces, 1 the
@@ -198,6 +210,7 @@ void build_volumes(const Tracer& tracer, const LightFrame& light, const SurfaceM
   parallel_blocks(mesh.positions.size(), 256, [&](size_t begin, size_t end, size_t) {
     for (size_t vertex = begin; vertex < end; ++vertex) {
       const glm::dvec3 point = mesh.positions[vertex];
+      if (!light_has_direction(light, point, tracer.epsilon())) continue;  // the light sits on it: unlit
       const glm::dvec3 travel = light_travel(light, point);
       for (int s = 0; s < 2; ++s) {
         if (!needed[s][vertex]) continue;
@@ -230,7 +243,8 @@ void build_volumes(const Tracer& tracer, const LightFrame& light, const SurfaceM
           const float distance = light.kind == LightKind::directional
                                      ? 1e30f
                                      : static_cast<float>(glm::length(glm::dvec3(light.position) - start));
-          lit = !tracer.occluded(Vec3(start), Vec3(-light_travel(light, start)), distance);
+          lit = light_has_direction(light, start, tracer.epsilon()) &&
+                !tracer.occluded(Vec3(start), Vec3(-light_travel(light, start)), distance);
         } else {
           lit = sees[corner_side(index, vertex)][vertex];
         }

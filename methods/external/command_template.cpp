@@ -28,8 +28,26 @@ const std::map<std::string, std::string>& command_placeholders() {
 
 std::string expand_command(const std::string& command, const std::map<std::string, std::string>& values) {
   std::string result;
+  // The shell's quoting as it reads the command: a value is quoted for the shell only where the shell
+  // reads it unquoted. Inside '...' or "..." the value's own quotes would end the user's ('$(touch x)' in
+  // "{x}" is run by the shell; in sh -c '... {x}' by the inner one), so a placeholder there is refused.
+  char quote = 0;  // '\'', '"' or 0
   for (size_t i = 0; i < command.size(); ++i) {
     const char c = command[i];
+    if (c == '\\' && quote != '\'' && i + 1 < command.size()) {
+      const char next = command[i + 1];
+      if (next == '\'' || next == '"' || next == '\\') {  // an escaped quote or backslash: no quoting changes
+        result += c;
+        result += next;
+        ++i;
+        continue;
+      }
+      // \{x} would escape the value's opening quote and leave the value unquoted.
+      if (next == '{' && !(i + 2 < command.size() && command[i + 2] == '{'))
+        throw std::invalid_argument(fmt::format("a backslash before the placeholder at character {}: it would unquote its "
+                                                "value; remove it",
+                                                i + 2));
+    }
     if ((c == '{' || c == '}') && i + 1 < command.size() && command[i + 1] == c) {
       result += c;
       ++i;
@@ -37,6 +55,7 @@ std::string expand_command(const std::string& command, const std::map<std::strin
     }
     if (c == '}') throw std::invalid_argument(fmt::format("a '}}' at character {} without its '{{' (write '}}}}' for a brace)", i + 1));
     if (c != '{') {
+      if ((c == '\'' || c == '"') && (quote == 0 || quote == c)) quote = quote == 0 ? c : 0;
       result += c;
       continue;
     }
@@ -46,9 +65,17 @@ std::string expand_command(const std::string& command, const std::map<std::strin
     const std::string name = command.substr(i + 1, close - i - 1);
     auto it = values.find(name);
     if (it == values.end()) throw std::invalid_argument(fmt::format("an unknown placeholder {{{}}}", name));
+    if (quote != 0)
+      throw std::invalid_argument(fmt::format(
+          "the placeholder {{{}}} inside {} quotes at character {}: a value is quoted for the shell where the "
+          "placeholder stands, and inside quotes its own quotes would let the shell run it; write {{{}}} outside "
+          "quotes (--name={{{}}}, not \"{{{}}}\"), and to hand it to a nested shell pass it as an argument "
+          "(sh -c 'my_program \"$1\"' sh {{{}}})",
+          name, quote == '\'' ? "single" : "double", i + 1, name, name, name, name));
     result += shell_quoted(it->second);
     i = close;
   }
+  if (quote != 0) throw std::invalid_argument(fmt::format("a {} quote that is never closed", quote == '\'' ? "single" : "double"));
   return result;
 }
 

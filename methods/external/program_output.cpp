@@ -5,24 +5,51 @@
 
 #include <fmt/format.h>
 
+#include "core/errors.h"
 #include "core/files.h"
 
 namespace causticbench {
 
+double program_image_most_bytes(int width, int height) {
+  return 1024.0 * 1024.0 + static_cast<double>(width) * height * kProgramImageMostChannels * 4.0;
+}
+
 Image read_program_image(const std::string& path, int width, int height) {
   if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(fmt::format("it wrote no image at {}", path));
+  // Its size, then its header, before its pixels: the memory a program's file may make causticbench take is
+  // bounded by the G-buffer's size, whatever the file claims or holds.
+  const double most_bytes = program_image_most_bytes(width, height);
+  std::error_code error_code;
+  const double bytes = static_cast<double>(std::filesystem::file_size(path, error_code));
+  if (error_code) throw std::runtime_error(fmt::format("its image {} cannot be read: {}", path, error_code.message()));
+  if (bytes > most_bytes)
+    throw std::runtime_error(fmt::format("its image is {:.0f} bytes, more than an EXR of {}x{} with at most {} channels "
+                                         "of 32-bit floats can be ({:.0f} bytes); it is not read",
+                                         bytes, width, height, kProgramImageMostChannels, most_bytes));
+  std::string file;
+  try {
+    file = read_text(path, "an EXR image", static_cast<uintmax_t>(most_bytes));
+  } catch (const InputError& error) {
+    throw std::runtime_error(fmt::format("its image cannot be read ({})", error.what()));
+  }
   Image image;
   try {
-    image = read_exr(path);
+    image = decode_exr_checked(file, path, [&](const ExrShape& shape) {
+      if (shape.width != width || shape.height != height)
+        throw std::invalid_argument(fmt::format("its image is {}x{}, expected {}x{} (the G-buffer's size)", shape.width,
+                                                shape.height, width, height));
+      if (shape.channels < 3)
+        throw std::invalid_argument(fmt::format("its image has {} channel{}, expected R, G and B", shape.channels,
+                                                shape.channels == 1 ? "" : "s"));
+      if (shape.channels > kProgramImageMostChannels)
+        throw std::invalid_argument(fmt::format("its image has {} channels, expected R, G, B and at most {} in all",
+                                                shape.channels, kProgramImageMostChannels));
+    });
+  } catch (const std::invalid_argument& refused) {
+    throw std::runtime_error(refused.what());
   } catch (const std::exception& error) {
     throw std::runtime_error(fmt::format("its image is not a readable EXR ({})", error.what()));
   }
-  if (image.width() != width || image.height() != height)
-    throw std::runtime_error(fmt::format("its image is {}x{}, expected {}x{} (the G-buffer's size)", image.width(),
-                                         image.height(), width, height));
-  if (image.channels() < 3)
-    throw std::runtime_error(fmt::format("its image has {} channel{}, expected R, G and B", image.channels(),
-                                         image.channels() == 1 ? "" : "s"));
   Image rgb(width, height, 3);
   for (size_t pixel = 0; pixel < image.pixel_count(); ++pixel) {
     for (int c = 0; c < 3; ++c) {
@@ -48,9 +75,15 @@ void require_number(const nlohmann::json& value, const std::string& key) {
 
 std::optional<nlohmann::json> read_program_statistics(const std::string& path) {
   if (!std::filesystem::exists(path)) return std::nullopt;
+  std::string text;
+  try {
+    text = read_text(path, "a statistics file (JSON)", kProgramStatisticsMostBytes);
+  } catch (const InputError& error) {  // a folder, or too large
+    throw std::runtime_error(fmt::format("its statistics file {}", error.what()));
+  }
   nlohmann::json statistics;
   try {
-    statistics = nlohmann::json::parse(read_text(path));
+    statistics = nlohmann::json::parse(text);
   } catch (const std::exception& error) {
     throw std::runtime_error(fmt::format("its statistics file {} is not JSON ({})", path, error.what()));
   }

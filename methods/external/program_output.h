@@ -2,6 +2,7 @@
 // of the G-buffer's size, R, G, B finite and non-negative) and the optional statistics file.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -10,6 +11,14 @@
 #include "core/image.h"
 
 namespace causticbench {
+
+// What a program's image may hold: R, G, B and at most this many channels in all; and so at most
+// program_image_most_bytes() in its file (uncompressed 32-bit floats, with 1 MiB for its header and offset
+// tables): a larger file, or a header that claims another size, is refused before its pixels are read.
+constexpr int kProgramImageMostChannels = 16;
+double program_image_most_bytes(int width, int height);
+// The largest statistics file read (a few numbers need far less).
+constexpr uintmax_t kProgramStatisticsMostBytes = 4u << 20;
 
 // The program's E_c (its R, G, B channels). Throws std::runtime_error saying what is wrong: no file, not a
 // readable EXR, another size, fewer than three channels, or the first pixel that is not finite or is

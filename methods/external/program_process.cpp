@@ -51,6 +51,15 @@ double tree_peak_bytes(pid_t pid, int depth = 0) {
   return peak;
 }
 
+// The largest VmHWM of `pid`'s descendants, without its own: the supervisor is a fork of causticbench,
+// whose resident size is causticbench's.
+double descendants_peak_bytes(pid_t pid) {
+  double peak = 0.0;
+  std::ifstream children("/proc/" + std::to_string(pid) + "/task/" + std::to_string(pid) + "/children");
+  for (pid_t child = 0; children >> child;) peak = std::max(peak, tree_peak_bytes(child, 1));
+  return peak;
+}
+
 }  // namespace
 
 namespace {
@@ -93,29 +102,55 @@ ProgramExit run_program(const std::string& command, const std::string& stdout_pa
     throw std::runtime_error(fmt::format("cannot start /bin/sh: {}", os_error_text(error)));
   }
   if (pid == 0) {
-    // A group of its own, so that the timeout kills the shell and everything it started; and killed with
-    // causticbench (PR_SET_PDEATHSIG), so that a sweep stopped by Ctrl-C or a kill leaves no program
-    // running on (the shell, or the program it execs; what a compound command forks lives on).
+    // The supervisor: the leader of a process group of its own, in which it starts the shell. When
+    // causticbench ends, however it ends (Ctrl-C, SIGTERM from scancel, SIGKILL, an exit), the kernel sends
+    // the supervisor SIGHUP (PR_SET_PDEATHSIG), and its handler kills the whole group, the program and
+    // everything it forked with it. (The death signal reaches only the process that asked for it: given to
+    // the shell, Debian's sh forks even a simple command, and the program would live on.) It is a fork of
+    // causticbench that never execs, so between fork and exit it makes only async-signal-safe calls.
     close(started[0]);
     setpgid(0, 0);
-    prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (getppid() != parent) _exit(127);  // causticbench died before the line above
-    signal(SIGPIPE, SIG_DFL);
-    const int files[3] = {open("/dev/null", O_RDONLY), open(stdout_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644),
-                          open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644)};
-    for (int target = 0; target < 3; ++target) {
-      if (files[target] < 0 || dup2(files[target], target) < 0) {
-        const int error = errno;
-        (void)!write(started[1], &error, sizeof error);
-        _exit(126);
-      }
+    struct sigaction on_parent_death {};
+    on_parent_death.sa_handler = [](int) { kill(0, SIGKILL); };
+    sigemptyset(&on_parent_death.sa_mask);
+    sigaction(SIGHUP, &on_parent_death, nullptr);
+    prctl(PR_SET_PDEATHSIG, SIGHUP);
+    if (getppid() != parent) kill(0, SIGKILL);  // causticbench died before the line above
+    const pid_t shell = fork();
+    if (shell < 0) {
+      const int error = errno;
+      (void)!write(started[1], &error, sizeof error);
+      _exit(126);
     }
-    for (int file : files)
-      if (file > 2) close(file);
-    execve("/bin/sh", arguments.data(), environ);
-    const int error = errno;
-    (void)!write(started[1], &error, sizeof error);
-    _exit(127);
+    if (shell == 0) {
+      signal(SIGHUP, SIG_DFL);
+      signal(SIGPIPE, SIG_DFL);
+      const int files[3] = {open("/dev/null", O_RDONLY), open(stdout_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644),
+                            open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644)};
+      for (int target = 0; target < 3; ++target) {
+        if (files[target] < 0 || dup2(files[target], target) < 0) {
+          const int error = errno;
+          (void)!write(started[1], &error, sizeof error);
+          _exit(126);
+        }
+      }
+      for (int file : files)
+        if (file > 2) close(file);
+      execve("/bin/sh", arguments.data(), environ);
+      const int error = errno;
+      (void)!write(started[1], &error, sizeof error);
+      _exit(127);
+    }
+    close(started[1]);  // the shell's copy closes at its exec: then causticbench reads the end of the pipe
+    int status = 0;
+    while (waitpid(shell, &status, 0) < 0) {
+      if (errno != EINTR) _exit(126);
+    }
+    if (WIFEXITED(status)) _exit(WEXITSTATUS(status));
+    // Ended by a signal: the supervisor ends by the same one, so that causticbench reads it as the shell's.
+    signal(WTERMSIG(status), SIG_DFL);
+    kill(getpid(), WTERMSIG(status));
+    _exit(128 + WTERMSIG(status));
   }
   setpgid(pid, pid);  // also here, so that the group exists whichever of the two runs first
   close(started[1]);
@@ -137,7 +172,7 @@ ProgramExit run_program(const std::string& command, const std::string& stdout_pa
     // Sampled every 10 ms at most; the pidfd ends the wait the moment the program exits, so that its
     // time is not rounded up to the next sample.
     for (int wait = 1;; wait = std::min(wait * 2, 10)) {
-      exit.peak_bytes = std::max(exit.peak_bytes, tree_peak_bytes(pid));
+      exit.peak_bytes = std::max(exit.peak_bytes, descendants_peak_bytes(pid));
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
       if (exited_within(pid, pidfd, static_cast<int>(std::clamp<long long>(left, 0, wait)))) break;
       if (std::chrono::steady_clock::now() >= deadline) {

@@ -1,8 +1,9 @@
 // Runs external's program: `/bin/sh -c COMMAND` in a process group of its own, its standard output and
 // error to files, its standard input from /dev/null, killed with its whole group (SIGKILL) when it runs
 // past the timeout. What it leaves running when it exits is killed too, so that no frame's program
-// outlives its frame; and when causticbench dies (Ctrl-C, a kill, scancel) the shell, or the program it
-// execs, is killed with it (PR_SET_PDEATHSIG), so that a stopped sweep leaves no hung program behind.
+// outlives its frame; and the group's leader is a supervisor (a fork of causticbench that waits for the
+// shell) that the kernel signals when causticbench ends however it ends (PR_SET_PDEATHSIG) and that then
+// kills the group, so that a stopped sweep leaves no program behind.
 #pragma once
 
 #include <string>

@@ -11,8 +11,23 @@
 #include "core/low_discrepancy.h"
 #include "core/parallel.h"
 #include "core/photon_tracer.h"
+#include "methods/common/photon_memory.h"
 
 namespace causticbench {
+
+// A frame's peak holds every landed photon twice, in update's per-block vectors (kept from frame to frame
+// so that later frames allocate nothing; grown by doubling, they hold up to twice their landings) and in
+// the merged list render splats, and render's footprint per photon: 3 x sizeof(LandedPhoton) + 4 bytes.
+constexpr double kBytesPerLanding = 3.0 * sizeof(rt_photons::LandedPhoton) + sizeof(float);
+
+std::vector<MemoryTerm> RtPhotonsMethod::knob_memory(const PrepareContext& context, const ParamSet& knobs) const {
+  const double photons = static_cast<double>(knobs.integer("photons_per_frame"));
+  const double landings = deposits_per_photon_bound(context, static_cast<uint64_t>(knobs.integer("seed")),
+                                                    static_cast<int>(knobs.integer("max_bounces")));
+  return {MemoryTerm{{"photons_per_frame"}, photons * landings * kBytesPerLanding,
+                     fmt::format("{:.3g} photons x {:.2f} landings each at most x {:.0f} bytes", photons, landings,
+                                 kBytesPerLanding)}};
+}
 
 void RtPhotonsMethod::check_scene(const Scene& scene) const {
   require_specular_object(scene, "rt_photons traces photons through specular objects");

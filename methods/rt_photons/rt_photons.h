@@ -32,6 +32,7 @@ class RtPhotonsMethod : public CausticMethod {
   // The landed photons splatted into the camera's caustic buffer.
   Image render(const GBuffer& gbuffer, const ParamSet& render) override;
   size_t memory_bytes() const override;
+  std::vector<MemoryTerm> knob_memory(const PrepareContext& context, const ParamSet& knobs) const override;
   Counters counters() const override;
   nlohmann::json record() const override;
   // The caustic flux of photons still bouncing after max_bounces.

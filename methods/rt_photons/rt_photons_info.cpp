@@ -1,5 +1,7 @@
 // rt_photons' declarations: its knobs with their phases and ranges, its capabilities and counters
 // (methods/rt_photons/README.md's table is generated from them).
+#include <fmt/format.h>
+
 #include "methods/rt_photons/rt_photons.h"
 
 namespace causticbench {
@@ -67,6 +69,14 @@ const MethodInfo& RtPhotonsMethod::static_info() {
                {"point_light", "a sphere light: light_samples points on its surface each frame"},
                {"moving_light", "photons are traced every frame"},
                {"moving_objects", "photons are traced every frame"}};
+    // A kernel cannot be widened to more than it may be narrowed to: the clamp would be empty.
+    m.knob_rules = {{{"min_footprint", "max_footprint"}, [](const ParamSet& knobs) {
+                       return knobs.real("min_footprint") <= knobs.real("max_footprint")
+                                  ? std::string()
+                                  : fmt::format("min_footprint {} is above max_footprint {}: expected min_footprint <= "
+                                                "max_footprint (the kernel's radius is clamped to [min, max])",
+                                                knobs.real("min_footprint"), knobs.real("max_footprint"));
+                     }}};
     m.quick_knobs = {"photons_per_frame=16384", "emission_resolution=16"};
     m.budget_knob = "photons_per_frame";
     m.counters = {counter_quantity("photons_emitted", "photons", "photons emitted this frame"),

@@ -3,7 +3,20 @@
 // photon_map on each exported frame, gives the in-process photon_map's images bit for bit; a program that
 // exits 1, writes NaN, a negative value, the wrong size, no image or malformed statistics, or hangs past
 // its timeout, fails its run with the reason and its stderr, and the rest of the sweep completes.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <thread>
 #include <filesystem>
+#include <map>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -31,6 +44,37 @@ TEST(ExternalCommand, FillsPlaceholdersShellQuoted) {
   EXPECT_THROW(expand_command("run {sceen}", {{"scene", "s"}}), std::invalid_argument);
   EXPECT_THROW(expand_command("run {scene", {{"scene", "s"}}), std::invalid_argument);
   EXPECT_THROW(expand_command("run scene}", {{"scene", "s"}}), std::invalid_argument);
+}
+
+// Issue 50, item 10: a value is quoted where its placeholder stands, so inside the user's own quotes its
+// quotes would end them and the shell would run it. Such a placeholder is refused; outside quotes, and
+// through a nested shell as an argument, a hostile value reaches the program as one word and runs nothing.
+TEST(ExternalCommand, APlaceholderInsideQuotesIsRefusedAndOutsideRunsNothing) {
+  const std::map<std::string, std::string> values = {{"out", "o"}, {"program.x", "a"}};
+  for (const std::string command : {"r \"{program.x}\" {out}", "sh -c 'r {program.x}' {out}", "r \"--x={program.x}\" {out}",
+                                    "r '{out}'", "r \\{program.x} {out}"}) {
+    SCOPED_TRACE(command);
+    EXPECT_THROW(expand_command(command, values), std::invalid_argument);
+    EXPECT_NE(command_problem(command, {{"program.x", "a"}}), "");
+  }
+  EXPECT_NE(command_problem("sh -c 'r {program.x}' {out}", {{"program.x", "a"}}).find("inside single quotes"), std::string::npos);
+  EXPECT_NE(command_problem("r \"{program.x}\" {out}", {{"program.x", "a"}}).find("inside double quotes"), std::string::npos);
+  // Quotes that close before the placeholder, and escaped quotes, are no quotes around it.
+  EXPECT_EQ(command_problem("r 'a' \"b\" \\\" {program.x} {out}", {{"program.x", "a"}}), "");
+  EXPECT_EQ(expand_command("r 'it''s' {out}", values), "r 'it''s' 'o'");
+
+  testing::TemporaryFolder folder("external_quoting");
+  const std::string marker = folder.path("ran");
+  for (const std::string hostile : {"$(touch " + marker + ")", "a; touch " + marker, "`touch " + marker + "`",
+                                    "'; touch " + marker + "; '", "\"; touch " + marker + "; \""}) {
+    SCOPED_TRACE(hostile);
+    const std::map<std::string, std::string> given = {{"out", folder.path("out.txt")}, {"program.x", hostile}};
+    for (const std::string command : {"printf %s {program.x} > {out}", "sh -c 'printf %s \"$1\" > \"$2\"' sh {program.x} {out}"}) {
+      ASSERT_EQ(std::system(expand_command(command, given).c_str()), 0) << command;
+      EXPECT_FALSE(std::filesystem::exists(marker)) << command << ": the value ran";
+      EXPECT_EQ(testing::read_whole_file(folder.path("out.txt")), hostile) << command << ": the program gets the value whole";
+    }
+  }
 }
 
 TEST(ExternalCommand, ProblemsNameWhatIsWrong) {
@@ -167,6 +211,9 @@ TEST_F(ExternalRuns, FailingProgramsFailTheirRunsAndTheSweepCompletes) {
         - "true {out}"
         - "echo waiting >&2; sleep 30 # {out}"
         - "printf 'bad \\377\\376 bytes\\rdone' >&2; exit 3 # {out}"
+        - ")" + fake + R"( huge_header {out} {width} {height}"
+        - ")" + fake + R"( oversized {out} {width} {height}"
+        - "mkdir {stats}; )" + fake + R"( constant {out} {width} {height}"
   - method: external
     label: constant
     build: {command: ")" + fake + R"( constant {out} {width} {height} {program.value} {stats}"}
@@ -177,7 +224,7 @@ TEST_F(ExternalRuns, FailingProgramsFailTheirRunsAndTheSweepCompletes) {
   ASSERT_EQ(run(file, output), 0) << output;
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 25.0)
       << "the hanging program must be killed at its timeout, not waited for";
-  EXPECT_NE(output.find("3 run now, 8 failed"), std::string::npos) << output;
+  EXPECT_NE(output.find("3 run now, 11 failed"), std::string::npos) << output;
   std::map<std::string, std::string> errors;
   size_t ok = 0;
   for (const json& record : records("failures")) {
@@ -197,7 +244,7 @@ TEST_F(ExternalRuns, FailingProgramsFailTheirRunsAndTheSweepCompletes) {
     errors[record["build"]["command"].get<std::string>()] = record["error"].get<std::string>();
   }
   EXPECT_EQ(ok, 3u);
-  ASSERT_EQ(errors.size(), 8u) << output;
+  ASSERT_EQ(errors.size(), 11u) << output;
   auto error_of = [&](const std::string& start) {
     for (const auto& [command, error] : errors)
       if (command.rfind(start, 0) == 0) return error;
@@ -214,6 +261,11 @@ TEST_F(ExternalRuns, FailingProgramsFailTheirRunsAndTheSweepCompletes) {
   expect_in(error_of(fake + " wrong_size"), "is 25x20, expected 24x20");
   expect_in(error_of(fake + " bad_statistics"), "time_ms is \"fast\"");
   expect_in(error_of("true"), "wrote no image");
+  // Issue 50, item 5: a header that lies, or a file larger than any EXR of the G-buffer can be, is refused
+  // before its pixels are read (they once drove causticbench to gigabytes).
+  expect_in(error_of(fake + " huge_header"), "its image is 12000x12000, expected 24x20");
+  expect_in(error_of(fake + " oversized"), "its image is 2097152 bytes, more than an EXR of 24x20 with at most 16 channels");
+  expect_in(error_of("mkdir"), "expected a regular file (a statistics file (JSON)), found a folder");
   expect_in(error_of("echo waiting"), "ran past its timeout of 1 s and was killed");
   expect_in(error_of("echo waiting"), "waiting");
   // Bytes that are not UTF-8 stand in the record as U+FFFD (the store's replacement), a carriage return
@@ -257,6 +309,18 @@ TEST_F(ExternalRuns, RenderRunsTheProgramPerSubPixelAndReportsItsFailure) {
       << output;
   EXPECT_NE(output.find("error: frame 0: the program exited with status 4"), std::string::npos) << output;
   EXPECT_EQ(output.find("internal error"), std::string::npos) << output;
+  // Four finite values near the float limit average to a finite one (issue 50, item 14: their float sum
+  // overflowed, and the run failed as "non-finite pixels").
+  ASSERT_EQ(testing::run_command(causticbench_command("render " + folder.path("scene.yaml") + " --method external --pixel-samples 4 "
+                                                      "--set 'command=" + fake + " constant {out} {width} {height} 3e38' --out " +
+                                                      folder.path("bright") + " --quiet"),
+                                 output),
+            0)
+      << output;
+  const Image bright = read_exr(folder.path("bright") + "/caustic.exr");
+  float brightest = 0.0f;
+  for (float value : bright.values()) brightest = std::max(brightest, value);
+  EXPECT_FLOAT_EQ(brightest, 3e38f);
 }
 
 // The NumPy example (examples/external_python/sphere_splat.py) through external, beside photon_map on the
@@ -319,6 +383,62 @@ TEST_F(ExternalRuns, DefectiveCommandsAreRefusedBeforeAnyWork) {
     EXPECT_NE(output.find(message), std::string::npos) << output;
     EXPECT_NE(output.find("defective.yaml"), std::string::npos) << output;
     EXPECT_FALSE(fs::exists(folder.path("results") + "/defective/runs")) << methods;
+  }
+}
+
+}  // namespace
+}  // namespace causticbench
+
+namespace causticbench {
+namespace {
+
+// Whether process `pid` runs (exists and is no zombie).
+bool running(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+  const size_t close = text.rfind(')');
+  return close != std::string::npos && close + 2 < text.size() && text[close + 2] != 'Z';
+}
+
+// Issue 50, item 13: a sweep stopped by SIGTERM (as scancel sends it) or by SIGKILL leaves no program
+// running. The program here is started by a compound command, so that the shell forks it: the kernel's
+// death signal given to the shell alone never reached it.
+TEST_F(ExternalRuns, AStoppedSweepLeavesNoProgramRunning) {
+  for (const int signal : {SIGTERM, SIGKILL}) {
+    SCOPED_TRACE(strsignal(signal));
+    const std::string name = "stopped_" + std::to_string(signal), pid_file = folder.path(name + ".pid");
+    const std::string file = experiment(name, "  - method: external\n    build: {command: \"sh -c 'echo $$ > " + pid_file +
+                                                  "; exec sleep 300'; true {out}\"}\n");
+    const std::string results = folder.path("results"), temporary = folder.path("tmp");
+    const pid_t sweep = fork();
+    ASSERT_GE(sweep, 0);
+    if (sweep == 0) {
+      setenv("TMPDIR", temporary.c_str(), 1);
+      const int null = open("/dev/null", O_WRONLY);
+      dup2(null, 1);
+      dup2(null, 2);
+      execl(CAUSTICBENCH_BINARY, CAUSTICBENCH_BINARY, "-q", "run", file.c_str(), "--results", results.c_str(),
+            static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    pid_t program = 0;
+    for (int wait = 0; wait < 1200 && program == 0; ++wait) {  // the reference comes first: up to 2 minutes
+      std::ifstream(pid_file) >> program;
+      if (program == 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    if (program == 0) kill(sweep, SIGKILL);
+    ASSERT_GT(program, 0) << "the program never started";
+    ASSERT_TRUE(running(program));
+    kill(sweep, signal);
+    int status = 0;
+    waitpid(sweep, &status, 0);
+    bool gone = false;
+    for (int wait = 0; wait < 100 && !gone; ++wait) {
+      gone = !running(program);
+      if (!gone) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    EXPECT_TRUE(gone) << "the program (pid " << program << ") outlived the sweep";
+    if (!gone) kill(program, SIGKILL);
   }
 }
 
