@@ -14,6 +14,7 @@
 #include "methods/quantity_registry.h"
 #include "experiments/recompute_metrics.h"
 #include "store/record_check.h"
+#include "store/result_paths.h"
 #include "store/run_record.h"
 #include "experiments/runner.h"
 #include "reports/cost_views.h"
@@ -368,7 +369,22 @@ methods:
     }
     EXPECT_EQ(after.frames[0].metric_parameters, before[r].frames[0].metric_parameters);
     ASSERT_TRUE(after.metric("rmse")) << "the added metric";
-    EXPECT_GT(*after.metric("rmse"), 0.0);
+    // Its value is sqrt(mse) of the stored frame against the stored reference over the receivers,
+    // computed here from the files.
+    const fs::path reference_folder = ResultPaths{options.results}.reference(experiment.variants[0].reference_key);
+    const Image reference = read_exr((reference_folder / (ResultPaths::frame_file(0) + ".exr")).string());
+    const Image gbuffer = GBuffer::read_image((reference_folder / (ResultPaths::frame_file(0, "gbuffer") + ".exr")).string());
+    const Image test = read_exr((experiment_folder / "runs" / experiment.runs[r].key / (ResultPaths::frame_file(0) + ".exr")).string());
+    double squares = 0.0;
+    size_t values = 0;
+    for (size_t pixel = 0; pixel < test.pixel_count(); ++pixel) {
+      if (gbuffer.at(pixel, GBuffer::kReceiverChannel) < 0.5f) continue;
+      for (int c = 0; c < 3; ++c, ++values) squares += std::pow(double(test.at(pixel, c)) - reference.at(pixel, c), 2.0);
+    }
+    ASSERT_GT(values, 0u);
+    const double rmse = std::sqrt(squares / static_cast<double>(values));
+    EXPECT_GT(rmse, 0.0);
+    EXPECT_NEAR(*after.metric("rmse"), rmse, 1e-9 * rmse);
     EXPECT_EQ(after.timings.frame_ms_median, before[r].timings.frame_ms_median) << "nothing else changes";
     EXPECT_EQ(after.images, before[r].images);
   }

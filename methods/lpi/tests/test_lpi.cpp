@@ -65,21 +65,24 @@ ParamSet build_knobs(const std::vector<std::string>& knobs) {
 
 // The glass sphere under a directional light, one light sample (the light does not move): inside
 // the sampled ball lpi's E_c agrees with the reference's. Measured (200,000 photons, reference 6 x
-// 200,000): paper orientation relMSE 0.137 (grid 48^3) and 0.136 (24 shells, subdivision 5), energy
-// 1.10 and 1.14: the cosine correction of Section 3.2 is an approximation for light that does not
-// arrive along the line to the centre. The vector orientation: relMSE 0.006, energy 0.97. Bounds
-// about twice the measured errors.
+// 200,000, the volume at its scene-derived default since issue 32): paper orientation relMSE 0.159
+// (grid 48^3) and 0.139 (24 shells, subdivision 5), energy 1.177 and 1.164: the cosine correction of
+// Section 3.2 is an approximation for light that does not arrive along the line to the centre, and it
+// over-counts here. That bias is bounded on both sides (1.12 to 1.24, 1.11 to 1.22): a change that made
+// it vanish or grow is a change of the estimate, to be explained, not absorbed. The vector orientation:
+// relMSE 0.011, energy 1.056. relMSE bounds about twice the measured; energy about twice the deviation.
+// (Before issue 32's default volume it measured 0.137 / 0.136 / 0.006 and 1.10 / 1.14 / 0.97.)
 TEST(Lpi, GlassSphereMatchesTheReferenceInsideTheVolume) {
   const Scene scene = scene_from_yaml(kSmallGlassSphere);
   const FrameResult reference = causticbench::testing::render(scene, "reference", causticbench::testing::kSmallSceneReferenceKnobs);
   const std::vector<uint8_t> mask = inside_volume(reference.gbuffer, Vec3(0.0f, 0.6f, 0.0f), 1.2f);
   struct Case {
     std::vector<std::string> knobs;
-    double relmse, energy;  // bounds: relMSE below, |energy ratio - 1| below
+    double relmse, least_energy, most_energy;  // bounds: relMSE below, the energy ratio between
   };
-  const std::vector<Case> cases = {{{"storage=grid", "grid_resolution=48"}, 0.3, 0.25},
-                                   {{"storage=shells", "shell_count=24", "shell_subdivision=5"}, 0.3, 0.3},
-                                   {{"storage=grid", "grid_resolution=48", "orientation=vector"}, 0.02, 0.06}};
+  const std::vector<Case> cases = {{{"storage=grid", "grid_resolution=48"}, 0.32, 1.12, 1.24},
+                                   {{"storage=shells", "shell_count=24", "shell_subdivision=5"}, 0.28, 1.11, 1.22},
+                                   {{"storage=grid", "grid_resolution=48", "orientation=vector"}, 0.022, 0.89, 1.11}};
   for (Case run : cases) {
     std::string name;
     for (const std::string& knob : run.knobs) name += knob + " ";
@@ -90,7 +93,8 @@ TEST(Lpi, GlassSphereMatchesTheReferenceInsideTheVolume) {
     const Agreement measured = agreement(lpi, reference, mask);
     std::printf("glass sphere, %s: relMSE %.4f, energy ratio %.4f\n", name.c_str(), measured.relmse, measured.energy_ratio);
     EXPECT_LT(measured.relmse, run.relmse) << name;
-    EXPECT_NEAR(measured.energy_ratio, 1.0, run.energy) << name;
+    EXPECT_GT(measured.energy_ratio, run.least_energy) << name;
+    EXPECT_LT(measured.energy_ratio, run.most_energy) << name;
   }
 }
 

@@ -267,8 +267,10 @@ TEST(LpiMultires, ThresholdZeroRendersAsTheFinestGrid) {
 
 // storage: sh on the glass sphere (static light between light samples), 162 light samples, 5 bands,
 // against the barycentric grid built from the same photons: the difference is the harmonics' blur
-// over light directions, which falls as the order rises. Measured (relative L1, energy ratio): order 0
-// 0.92, 0.29; order 4 0.59, 1.16; order 9 0.31, 1.09. Bounds: L1 about 1.35 times, energy about twice.
+// over light directions, which falls as the order rises. Measured (relative L1, energy ratio): order 4
+// 0.59, 1.16; order 9 0.31, 1.09. Bounds: L1 about 1.35 times, energy about twice. (Order 0, a cell's
+// mean over all light directions, is no approximation of one direction's caustic that a bound could be
+// derived for: measured 0.92 and 0.29, it had bounds that any value passed, and is not a case.)
 TEST(LpiHarmonics, AgreesWithTheBarycentricGridOnTheGlassSphere) {
   const Scene scene = causticbench::testing::scene_from_yaml(causticbench::testing::kSmallGlassSphere);
   const std::vector<std::string> common = {"photons_per_sample=4000", "grid_resolution=16", "volume_radius=2",
@@ -284,7 +286,7 @@ TEST(LpiHarmonics, AgreesWithTheBarycentricGridOnTheGlassSphere) {
     double l1, energy;  // bounds: relative L1 below, |energy ratio - 1| below
   };
   double previous_l1 = 2.0;
-  for (const Case& run : {Case{"sh_order=0", 1.0, 1.0}, Case{"sh_order=4", 0.8, 0.35}, Case{"sh_order=9", 0.42, 0.2}}) {
+  for (const Case& run : {Case{"sh_order=4", 0.8, 0.35}, Case{"sh_order=9", 0.42, 0.2}}) {
     const std::string& order = run.order;
     const FrameResult sh = with({"storage=sh", order});
     const nlohmann::json& record = sh.method_record["objects"][0];
