@@ -42,8 +42,8 @@ BuildSummary prepare_missing_builds(const Experiment& experiment, const std::vec
       rest.reset();
       rest_variant = run->variant;
     }
-    std::unique_ptr<CausticMethod> method = create_method(run->method);
     try {
+      std::unique_ptr<CausticMethod> method = create_method(run->method);
       PrepareContext context = prepare_context(variant.scene, experiment.frames, nullptr, rest);
       method->check_scene(variant.scene);
       BuildCache* cache = method->build_cache();

@@ -128,10 +128,17 @@ void PosedFrame::for_each_subpixel_gbuffer(int samples, const std::function<void
       while (held + bytes <= kSubpixelCacheBytes && !subpixel_cache_bytes.compare_exchange_weak(held, held + bytes)) {
       }
       if (held + bytes <= kSubpixelCacheBytes) {
-        std::vector<GBuffer>& buffers = subpixel_[samples];
-        for (int index = 0; index < samples; ++index) buffers.push_back(make(index));
+        // Made aside and kept only when all are made: a failure (bad_alloc) keeps no partial set and
+        // gives its part of the budget back.
+        std::vector<GBuffer> buffers;
+        try {
+          for (int index = 0; index < samples; ++index) buffers.push_back(make(index));
+        } catch (...) {
+          subpixel_cache_bytes -= bytes;
+          throw;
+        }
         subpixel_bytes_ += bytes;
-        kept = &buffers;
+        kept = &(subpixel_[samples] = std::move(buffers));
       }
     }
   }

@@ -61,9 +61,9 @@ FrameResult run_frame(const RenderRequest& request, const CheckedRequest& checke
   if (!timings.gpu_render_ms.empty()) result.timings.gpu_render_milliseconds = timings.gpu_render_ms.front();
   result.caustic = std::move(outputs.front().images.front());
   result.gbuffer = std::move(posed.gbuffer);
-  result.memory_bytes = method->memory_bytes();
-  result.counters = method->counters();
-  result.method_record = method->record();
+  result.memory_bytes = outputs.front().memory_bytes;
+  result.counters = outputs.front().counters;
+  result.method_record = outputs.front().method_record;
   result.lost_flux = outputs.front().lost_flux.front();
   if (!request.dump_folder.empty()) method->gpu()->dump_frame(result.gbuffer, knobs.render, result.caustic, request.dump_folder);
   if (direct) *direct = direct_irradiance(posed.tracer, result.gbuffer, direct_samples, 12345);

@@ -213,22 +213,26 @@ MetricValue frame_metric(const std::string& name, const Image& test, const Image
 }  // namespace
 
 // What a metric of images of float values can be at most (the record check's bounds, MetricInfo::maximum):
-// every channel lies in [0, FLT_MAX], a positive one is at least the smallest denormal, and an image has
-// at most 16384^2 pixels (core/camera.cpp's resolution limit) of 3 channels. So a reference's positive
-// mean is at least denorm_min / (3 N), relMSE's eps at least a hundredth of its square, an error at most
-// FLT_MAX, and a nonzero mse at least denorm_min^2 / (3 N).
+// every finite channel lies in [-FLT_MAX, FLT_MAX] (E_c is non-negative, but a plugin's image may not
+// be, and its run must still be stored as measured), a reference's positive one is at least the
+// smallest denormal, and an image has at most 16384^2 pixels (core/camera.cpp's resolution limit) of 3
+// channels. So a reference's positive mean is at least denorm_min / (3 N), relMSE's eps at least a
+// hundredth of its square, an error at most 2 FLT_MAX, and a nonzero mse at least denorm_min^2 / (3 N).
 constexpr double kLargestValue = std::numeric_limits<float>::max();
 constexpr double kSmallestValue = std::numeric_limits<float>::denorm_min();
 constexpr double kMostChannels = 3.0 * 16384.0 * 16384.0;
 constexpr double kSmallestMean = kSmallestValue / kMostChannels;
+constexpr double kLargestError = 2.0 * kLargestValue;
 const double kMostPsnr = 10.0 * std::log10(kLargestValue / kSmallestValue * kLargestValue / kSmallestValue * kMostChannels);
-const double kLeastPsnr = 10.0 * std::log10(kSmallestValue / kLargestValue * kSmallestValue / kLargestValue);
+const double kLeastPsnr = 10.0 * std::log10(kSmallestValue / kLargestError * kSmallestValue / kLargestError);
+// SSIM is computed in float by OpenCV: a few units in the last place beyond [-1, 1].
+constexpr double kSsimSlack = 1e-5;
 
 const std::vector<MetricInfo>& metric_registry() {
   static const std::vector<MetricInfo> registry = {
       {"mse", false, std::nullopt, "(W/m^2)^2", "mean over masked finite pixels and RGB channels of (test - reference)^2",
-       true, 0.0, kLargestValue * kLargestValue},
-      {"rmse", false, std::nullopt, "W/m^2", "square root of mse", true, 0.0, kLargestValue},
+       true, 0.0, kLargestError * kLargestError},
+      {"rmse", false, std::nullopt, "W/m^2", "square root of mse", true, 0.0, kLargestError},
       {"psnr", true, std::nullopt, "dB",
        "10 log10(peak^2 / mse), peak = largest reference channel value over the mask; +inf when mse = 0; undefined "
        "when peak = 0",
@@ -236,17 +240,17 @@ const std::vector<MetricInfo>& metric_registry() {
       {"ssim", true, std::nullopt, "",
        "mean over masked finite pixels of the SSIM map (OpenCV, 11x11 Gaussian sigma 1.5) of Rec. 709 luminance, "
        "dynamic range = the reference's largest masked luminance; undefined when that is 0",
-       true, -1.0, 1.0},
+       true, -1.0 - kSsimSlack, 1.0 + kSsimSlack},
       {"relmse", false, std::nullopt, "",
        "mean over masked finite pixels and RGB channels of (test - reference)^2 / (reference^2 + eps), "
        "eps = (0.1 mean reference)^2; undefined when that mean is 0",
-       true, 0.0, kLargestValue * kLargestValue / (0.01 * kSmallestMean * kSmallestMean)},
+       true, 0.0, kLargestError * kLargestError / (0.01 * kSmallestMean * kSmallestMean)},
       {"energy_ratio", false, 1.0, "",
        "sum of test over masked finite pixels / sum of reference over them (channel mean); best is closest to 1; "
        "undefined when the reference's sum is 0",
-       true, 0.0, kLargestValue / kSmallestMean},
+       true, -kLargestValue / kSmallestMean, kLargestValue / kSmallestMean},
       {"max_error", false, std::nullopt, "W/m^2",
-       "largest |test - reference| over masked finite pixels and RGB channels", true, 0.0, kLargestValue},
+       "largest |test - reference| over masked finite pixels and RGB channels", true, 0.0, kLargestError},
       {"flip", false, std::nullopt, "",
        "mean over masked finite pixels of the HDR-FLIP map (NVIDIA FLIP v1.6, ACES, 67 ppd), exposures from the "
        "reference's masked max and lit median luminance; undefined when that max is 0",
@@ -254,7 +258,7 @@ const std::vector<MetricInfo>& metric_registry() {
       {"temporal_flicker", false, std::nullopt, "",
        "mean over frames t>=1 of masked mean |(test_t - test_t-1) - (reference_t - reference_t-1)|, divided by "
        "the reference's masked mean over all frames; undefined when that mean is 0",
-       false, 0.0, 2.0 * kLargestValue / kSmallestMean},
+       false, 0.0, 2.0 * kLargestError / kSmallestMean},
       {"nonfinite_pixels", false, std::nullopt, "pixels",
        "number of masked test pixels with a NaN or infinite channel (excluded from the other metrics)", true, 0.0,
        kMostChannels / 3.0},

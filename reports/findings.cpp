@@ -119,15 +119,18 @@ std::vector<std::string> findings(const Report& report, bool html) {
                                 empty, empty == 1 ? "" : "s"));
   if (!report.claims.empty())
     lines.push_back(claims_count_text(report) + (html ? " See <a href=\"#claims\">Claims</a>." : " See Claims below."));
+  // Every text read from the results folder is escaped for the document: experiment.json may be edited.
+  const auto text = [&](const std::string& plain) { return html ? html_escape(plain) : md_text(plain); };
+  const std::string primary = text(report.primary);
   auto describe = [&](size_t i) {
     auto time = report.runs[i].frame_ms();
-    return fmt::format("{} ({}, {} ms)", name(i), primary_caption(report, report.runs[i]),
+    return fmt::format("{} ({}, {} ms)", name(i), text(primary_caption(report, report.runs[i])),
                        time ? num(*time) : "\u2014");
   };
   // One set of lines per variant (best, fastest, front and reference error compare runs of one variant only).
   for (size_t v = 0; v < report.variants.size(); ++v) {
     const Variant& variant = report.variants[v];
-    std::string in = report.multi() ? " (variant " + variant.name + ")" : "";
+    std::string in = report.multi() ? " (variant " + text(variant.name) + ")" : "";
     std::optional<size_t> best, fastest;
     for (size_t i : report.ok_runs()) {
       if (report.runs[i].variant_index != v) continue;
@@ -144,7 +147,7 @@ std::vector<std::string> findings(const Report& report, bool html) {
         if (i != *best && report.runs[i].variant_index == v && report.runs[i].metric(report.primary) &&
             !separated(report.runs[*best], report.runs[i], report.primary))
           close.push_back(name(i));
-      lines.push_back("Best " + report.primary + in + ": " + describe(*best) +
+      lines.push_back("Best " + primary + in + ": " + describe(*best) +
                       (close.empty() ? "" : "; not separated (95 % intervals overlap) from " + join(close, ", ")) + ".");
     }
     if (fastest) lines.push_back("Fastest frame" + in + ": " + describe(*fastest) + ".");
@@ -180,7 +183,7 @@ std::vector<std::string> findings(const Report& report, bool html) {
     if (variant.baselines.size() > 1 && variant.baselines[1].values.count(report.primary))
       blurred = fmt::format(", the reference blurred {}", num(variant.baselines[1].values.at(report.primary)));
     lines.push_back(fmt::format("Baselines{}: a black image scores {} {}{}; {}.",
-                                report.multi() ? " (variant " + variant.name + ")" : "", report.primary, num(*black),
+                                report.multi() ? " (variant " + text(variant.name) + ")" : "", primary, num(*black),
                                 blurred,
                                 losers.empty() ? "every run beats it"
                                                : fmt::format("{} run{} do{} not beat it: {}", losers.size(),

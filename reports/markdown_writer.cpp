@@ -42,7 +42,7 @@ namespace {
 // The equal-time, equal-error and break-even tables of each variant.
 void views_markdown(std::string& out, const Report& report) {
   if (!has_views(report)) return;
-  out += "## Equal time and equal error\n\n" + views_caption(report) + "\n\n";
+  out += "## Equal time and equal error\n\n" + md_text(views_caption(report)) + "\n\n";
   for (size_t v = 0; v < report.views.size(); ++v) {
     if (report.views[v].points.empty()) continue;
     std::string in = report.multi() ? " (variant " + md_text(report.variants[v].name) + ")" : "";
@@ -62,19 +62,28 @@ void views_markdown(std::string& out, const Report& report) {
 
 std::string markdown_document(const Report& report) {
   std::string out;
-  out += fmt::format("# causticbench report: {}\n\n", report.name);
+  out += fmt::format("# causticbench report: {}\n\n", md_text(report.name));
   std::string description = string_member(report.experiment, "description");
   if (!description.empty()) out += md_text(description) + "\n\n";
   out += "Plots (trade-off, convergence, sweeps) are in report.html.\n\n";
 
-  out += "## Environment\n\n```\n";
+  // A code block, fenced longer than any run of backticks in it and one line a value, so that no value
+  // of environment.json can close it.
   std::vector<std::pair<std::string, std::string>> env;
   flatten(report.environment, "", env);
-  size_t width = 0;
+  size_t width = 0, longest = 0;
+  std::string block;
   for (const auto& [key, value] : env) width = std::max(width, key.size());
-  for (const auto& [key, value] : env) out += fmt::format("{:<{}}  {}\n", key + ":", width + 1, value);
-  if (env.empty()) out += "(environment.json missing)\n";
-  out += "```\n\n";
+  for (const auto& [key, value] : env) {
+    std::string line = fmt::format("{:<{}}  {}", key + ":", width + 1, value);
+    std::replace(line.begin(), line.end(), '\n', ' ');
+    std::replace(line.begin(), line.end(), '\r', ' ');
+    for (size_t run = 0, i = 0; i < line.size(); ++i) longest = std::max(longest, run = line[i] == '`' ? run + 1 : 0);
+    block += line + "\n";
+  }
+  if (env.empty()) block += "(environment.json missing)\n";
+  const std::string fence(std::max<size_t>(3, longest + 1), '`');
+  out += "## Environment\n\n" + fence + "\n" + block + fence + "\n\n";
 
   out += "## Experiment\n\n";
   for (const auto& [key, value] : experiment_facts(report)) out += fmt::format("- {}: {}\n", md_text(key), md_text(value));

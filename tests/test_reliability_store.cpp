@@ -389,9 +389,9 @@ TEST(StoredRecords, ImpossibleMeasurementsAreDamaged) {
       // Beyond the largest double: no JSON reader takes it as a number, so the record is damaged whole.
       {"overflowing metric", [](nlohmann::json& r) { r["metrics"]["relmse"] = std::numeric_limits<double>::infinity(); },
        "record.json"},
-      // Issue 50, item 9: finite, but more than float images can give (relMSE at most about 3.8e186).
+      // Issue 50, item 9: finite, but more than float images can give (relMSE at most about 1.5e187).
       {"relmse beyond what images give", [](nlohmann::json& r) { r["metrics"]["relmse"] = 1.79e308; },
-       "metric relmse is 1.79e+308: expected a finite value in [0, 3.82"},
+       "metric relmse is 1.79e+308: expected a finite value in [0, 1.529"},
       {"flip above 1", [](nlohmann::json& r) { r["frames"][0]["metrics"]["flip"] = 3.0; },
        "frame 0: metric flip is 3: expected a finite value in [0, 1]"}};
   for (const Edit& edit : edits) {

@@ -1,5 +1,7 @@
 #include "methods/external/command_template.h"
 
+#include <cctype>
+#include <set>
 #include <stdexcept>
 #include <vector>
 
@@ -26,37 +28,47 @@ const std::map<std::string, std::string>& command_placeholders() {
   return placeholders;
 }
 
+std::string placeholder_variable(const std::string& name) {
+  std::string variable = "CAUSTICBENCH_";
+  for (char c : name) variable += std::isalnum(static_cast<unsigned char>(c)) ? static_cast<char>(std::toupper(c)) : '_';
+  return variable;
+}
+
 std::string expand_command(const std::string& command, const std::map<std::string, std::string>& values) {
-  std::string result;
-  // The shell's quoting as it reads the command: a value is quoted for the shell only where the shell
-  // reads it unquoted. Inside '...' or "..." the value's own quotes would end the user's ('$(touch x)' in
-  // "{x}" is run by the shell; in sh -c '... {x}' by the inner one), so a placeholder there is refused.
+  // No value is ever pasted into the command's text. Each placeholder becomes a reference to a shell
+  // variable, and the variables are assigned, single-quoted, in lines of their own before the command:
+  // the shell never parses the result of an expansion again, so a value such as $(touch x), `touch x` or
+  // '; touch x; ' reaches the program as text wherever its placeholder stands (in "$(dirname {out})", a
+  // here-document or arithmetic alike). Where the placeholder stands outside quotes the reference is
+  // double-quoted, so that the value stays one word; inside the command's double quotes it is bare.
+  // Inside single quotes no expansion happens at all, so a placeholder there would reach the program
+  // as the variable's name: refused, with the fix. So is one after '$' or a backslash, which would
+  // change what the reference means. The quotes are followed as sh reads them at the top level; where
+  // this reading is wrong (quotes nested in $(...)), the worst outcome is a value split into words,
+  // never a value run.
+  std::string body, preamble;
+  std::set<std::string> assigned;
   char quote = 0;  // '\'', '"' or 0
   for (size_t i = 0; i < command.size(); ++i) {
     const char c = command[i];
     if (c == '\\' && quote != '\'' && i + 1 < command.size()) {
       const char next = command[i + 1];
-      if (next == '\'' || next == '"' || next == '\\') {  // an escaped quote or backslash: no quoting changes
-        result += c;
-        result += next;
-        ++i;
-        continue;
-      }
-      // \{x} would escape the value's opening quote and leave the value unquoted.
       if (next == '{' && !(i + 2 < command.size() && command[i + 2] == '{'))
-        throw std::invalid_argument(fmt::format("a backslash before the placeholder at character {}: it would unquote its "
-                                                "value; remove it",
-                                                i + 2));
+        throw std::invalid_argument(fmt::format("a backslash before the placeholder at character {}; remove it", i + 2));
+      body += c;
+      body += next;  // an escaped character: a quote or backslash so escaped changes no quoting
+      ++i;
+      continue;
     }
     if ((c == '{' || c == '}') && i + 1 < command.size() && command[i + 1] == c) {
-      result += c;
+      body += c;
       ++i;
       continue;
     }
     if (c == '}') throw std::invalid_argument(fmt::format("a '}}' at character {} without its '{{' (write '}}}}' for a brace)", i + 1));
     if (c != '{') {
       if ((c == '\'' || c == '"') && (quote == 0 || quote == c)) quote = quote == 0 ? c : 0;
-      result += c;
+      body += c;
       continue;
     }
     const size_t close = command.find('}', i + 1);
@@ -65,18 +77,21 @@ std::string expand_command(const std::string& command, const std::map<std::strin
     const std::string name = command.substr(i + 1, close - i - 1);
     auto it = values.find(name);
     if (it == values.end()) throw std::invalid_argument(fmt::format("an unknown placeholder {{{}}}", name));
-    if (quote != 0)
+    if (quote == '\'')
       throw std::invalid_argument(fmt::format(
-          "the placeholder {{{}}} inside {} quotes at character {}: a value is quoted for the shell where the "
-          "placeholder stands, and inside quotes its own quotes would let the shell run it; write {{{}}} outside "
-          "quotes (--name={{{}}}, not \"{{{}}}\"), and to hand it to a nested shell pass it as an argument "
-          "(sh -c 'my_program \"$1\"' sh {{{}}})",
-          name, quote == '\'' ? "single" : "double", i + 1, name, name, name, name));
-    result += shell_quoted(it->second);
+          "the placeholder {{{}}} inside single quotes at character {}: the shell expands nothing there; write it "
+          "outside them, and to hand a value to a nested shell pass it as an argument (sh -c 'my_program \"$1\"' sh "
+          "{{{}}})",
+          name, i + 1, name));
+    if (!body.empty() && body.back() == '$')
+      throw std::invalid_argument(fmt::format("a '$' before the placeholder {{{}}} at character {}; remove it", name, i + 1));
+    const std::string variable = placeholder_variable(name);
+    if (assigned.insert(variable).second) preamble += "export " + variable + "=" + shell_quoted(it->second) + "\n";
+    body += quote == '"' ? "${" + variable + "}" : "\"${" + variable + "}\"";
     i = close;
   }
   if (quote != 0) throw std::invalid_argument(fmt::format("a {} quote that is never closed", quote == '\'' ? "single" : "double"));
-  return result;
+  return preamble + body;
 }
 
 std::map<std::string, std::string> program_knobs(const ParamSet& knobs) {

@@ -18,7 +18,8 @@ const MethodInfo& ExternalMethod::static_info() {
         ParamSpec::text("command", "",
                         "the shell command run for each frame (/bin/sh -c), with placeholders {scene}, {world}, {gbuffer}, "
                         "{out}, {stats}, {folder}, {frame}, {width}, {height}, {causticbench} and {program.NAME}, each "
-                        "filled in shell-quoted; {{ and }} are braces",
+                        "standing for its value (a shell variable, never parsed as code; not inside single quotes); "
+                        "{{ and }} are braces",
                         ParamPhase::build),
         ParamSpec::real("timeout_seconds", 600.0, 0.001, 1e6,
                         "how long one frame's program may run before it is killed (with everything it started) and its "

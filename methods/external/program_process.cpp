@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <poll.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -142,6 +143,9 @@ ProgramExit run_program(const std::string& command, const std::string& stdout_pa
       _exit(127);
     }
     close(started[1]);  // the shell's copy closes at its exec: then causticbench reads the end of the pipe
+    // Passing on the shell's signal below must not dump a core of causticbench's whole address space.
+    const struct rlimit no_core {0, 0};
+    setrlimit(RLIMIT_CORE, &no_core);
     int status = 0;
     while (waitpid(shell, &status, 0) < 0) {
       if (errno != EINTR) _exit(126);
