@@ -91,7 +91,7 @@ struct TimingProtocol {
   bool warm_up = true;
   int repetitions = 1;
   // The harness's anti-aliasing (docs/metrics.md, "pixel_samples"): with N > 1, render() runs once per
-  // stratified sub-pixel G-buffer (PosedFrame::subpixel_gbuffers), each image is cleared outside its own
+  // stratified sub-pixel G-buffer (PosedFrame::for_each_subpixel_gbuffer), each image is cleared outside its own
   // receivers and the N are averaged per pixel; the render time is the sum of the N.
   int pixel_samples = 1;
 };
