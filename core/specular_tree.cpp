@@ -31,6 +31,8 @@ void trace_specular_tree(const Tracer& tracer, const Ray& start, const Color& en
       if (branch.depth > 0) {
         on_exit(ExitRay{branch.ray.origin, branch.ray.direction, branch.energy, branch.depth});
         stats.exited += luminance(branch.energy);
+      } else {
+        stats.missed += luminance(branch.energy);
       }
       continue;
     }

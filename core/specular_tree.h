@@ -27,14 +27,17 @@ struct SpecularTreeSettings {
   int max_depth = 32;
 };
 
+// started = missed + exited + dropped + absorbed, to rounding (tests/test_specular_tree.cpp).
 struct SpecularTreeStats {
   double started = 0.0;   // luminance of the energy that entered the trees
+  double missed = 0.0;    // luminance of starting rays that met nothing (no specular interaction)
   double exited = 0.0;    // luminance that left the scene
   double dropped = 0.0;   // luminance below min_energy or beyond max_depth
   double absorbed = 0.0;  // luminance absorbed inside glass, by mirrors or met by a diffuse surface
   uint64_t rays = 0;      // rays intersected
   void add(const SpecularTreeStats& other) {
     started += other.started;
+    missed += other.missed;
     exited += other.exited;
     dropped += other.dropped;
     absorbed += other.absorbed;

@@ -3,6 +3,8 @@
 // is installed) that the Vega-Lite plots render offline.
 #include <filesystem>
 #include <map>
+#include <set>
+#include <vector>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -115,6 +117,67 @@ TEST_F(ReportTest, ErrorAgainstTimeJoinsTheReferencesConvergence) {
   experiment["claims"] = json::array();
   write_json(folder / "experiment.json", experiment);
   EXPECT_FALSE(plot_spec(read_text(write_report(folder.string()).html), "plot-error-time").is_object());
+}
+
+// The total-cost plot's data, not only its presence: in the panel of N frames each run's point is its
+// prepare seconds plus N times its median frame (the synthetic records: 0.5 s + N x frame_ms) at its
+// stored relMSE, and each method's front holds exactly the runs of that method that no other of its runs
+// beats on both axes in that panel (computed here from the fixture's own numbers).
+TEST_F(ReportTest, TotalCostPlotHoldsEachRunsCostAndEachMethodsFront) {
+  ReportSummary summary = write_report(folder.string());
+  json spec = plot_spec(read_text(summary.html), "plot-total-cost");
+  ASSERT_TRUE(spec.is_object());
+  std::map<std::string, const FakeRun*> by_key;
+  for (const FakeRun& run : runs)
+    if (!run.failed) by_key[run.key] = &run;
+  std::map<std::string, std::vector<json>> points, fronts;  // per panel
+  for (const json& row : spec["data"]["values"]) (row["kind"] == "run" ? points : fronts)[row["panel"]].push_back(row);
+  ASSERT_EQ(points.size(), 4u) << "one panel per default frame count";
+  for (const auto& [panel, rows] : points) {
+    ASSERT_EQ(rows.size(), by_key.size()) << panel;
+    const double frames = rows.front()["frames"].get<double>();
+    std::map<std::string, std::set<std::string>> expected_front;  // per method
+    for (const json& row : rows) {
+      const FakeRun& run = *by_key.at(row["key"]);
+      const double total = 0.5 + frames * run.frame_ms / 1000.0;
+      EXPECT_NEAR(row["total_s"].get<double>(), total, 1e-12 * total) << panel << " " << run.key;
+      EXPECT_EQ(row["y"].get<double>(), run.relmse) << panel << " " << run.key;
+      bool beaten = false;
+      for (const auto& [key, other] : by_key) {
+        const double other_total = 0.5 + frames * other->frame_ms / 1000.0;
+        beaten = beaten || (other->method == run.method && other_total <= total && other->relmse <= run.relmse &&
+                            (other_total < total || other->relmse < run.relmse));
+      }
+      if (!beaten) expected_front[run.method].insert(run.key);
+    }
+    std::map<std::string, std::set<std::string>> front;
+    for (const json& row : fronts[panel]) front[row["method"]].insert(row["key"]);
+    EXPECT_EQ(front, expected_front) << panel;
+  }
+}
+
+// The reference's convergence plot holds the reference's history as stored: one point per pass, its
+// seconds and estimated error in order (the fixture's eight passes: 0.4 s and 4e-3 / pass each), and the
+// red rule at the best relMSE a run reached (pm_1e6's 0.005).
+TEST_F(ReportTest, ConvergencePlotHoldsTheReferencesHistory) {
+  ReportSummary summary = write_report(folder.string());
+  json spec = plot_spec(read_text(summary.html), "plot-convergence");
+  ASSERT_TRUE(spec.is_object());
+  const json& rows = spec["layer"][0]["data"]["values"];
+  ASSERT_EQ(rows.size(), 8u);
+  for (int pass = 1; pass <= 8; ++pass) {
+    const json& row = rows[pass - 1];
+    EXPECT_EQ(row["pass"].get<int>(), pass);
+    EXPECT_DOUBLE_EQ(row["seconds"].get<double>(), 0.4 * pass);
+    EXPECT_DOUBLE_EQ(row["error_estimate"].get<double>(), 4e-3 / pass);
+  }
+  bool rule = false;
+  for (const json& layer : spec["layer"]) {
+    if (!layer.contains("data")) continue;
+    for (const json& value : layer["data"]["values"])
+      if (value.contains("error_estimate") && value["error_estimate"] == 0.005 && !value.contains("pass")) rule = true;
+  }
+  EXPECT_TRUE(rule) << "the best run's relMSE, 0.005, as a rule: " << spec["layer"].dump().substr(0, 2000);
 }
 
 // The plots must render from file:// with no network: run headless Chromium on report.html.

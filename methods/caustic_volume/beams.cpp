@@ -329,6 +329,7 @@ void build_volumes(const Tracer& tracer, const LightFrame& light, const SurfaceM
       volume.t_max = std::min(t_max, box_cap(*box, origins, directions));
     }
     volume.area_in = area_in;
+    volume.flux_entering = flux;
     volume.flux = luminance((r[0]->factor * r[0]->strength * lit[0] + r[1]->factor * r[1]->strength * lit[1] +
                              r[2]->factor * r[2]->strength * lit[2]) *
                             (1.0f / 3.0f)) * area_in;

@@ -52,7 +52,9 @@ struct Volume {
   std::array<glm::dvec3, 3> k{};
   std::array<double, 3> k_dot_d0{0.0, 0.0, 0.0};
   glm::dvec3 lower{0.0}, upper{0.0};  // the bounds of its six corners, which hold it (a convex hull does)
-  double flux = 0.0;                   // luminance of the flux entering, W (for the lost-flux counter)
+  double flux = 0.0;                   // luminance of the flux leaving the surface into the volume, W
+  double flux_entering = 0.0;          // luminance of the flux entering the triangle, W (before the
+                                       // reflectance or transmittance: the lost-flux counter's unit)
 };
 
 // What became of one object's triangles under one light.

@@ -399,6 +399,11 @@ SphericalMesh::Location SphericalMesh::locate(const Vec3& direction) const {
   return location_from(best, best_sides);
 }
 
+bool SphericalMesh::located_at_first_candidate(const Vec3& direction) const {
+  Sides sides;
+  return inside(texels_[texel_of(direction)].first, dvec3(direction), sides);
+}
+
 uint32_t SphericalMesh::nearest_point(const Vec3& direction) const {
   const glm::dvec3 d(direction);
   const uint32_t* corners = records_[locate(direction).triangle].point;

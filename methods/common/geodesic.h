@@ -58,12 +58,16 @@ class SphericalMesh {
   // d lies on an edge (within kEdgeTolerance; any adjacent triangle may be returned). The weights are
   // computed in double from the float corners, so they are exact to float rounding for the float d.
   // d must be finite and non-zero; it need not be exactly unit. Cost: one table read, then one triangle
-  // tested two times in three, a few otherwise (methods/lpi/tests/test_lpi_math.cpp, DISABLED_LocateThroughput).
+  // tested for 0.63 to 0.69 of random directions on the vertex meshes and 0.57 to 0.64 on the face-centre
+  // ones (Geodesic.MostLookupsTestOneTriangle), a few otherwise; its speed, Geodesic.DISABLED_LocateThroughput.
   struct Location {
     uint32_t triangle = 0;
     std::array<float, 3> weights{1.0f, 0.0f, 0.0f};
   };
   Location locate(const Vec3& direction) const;
+  // Whether locate(direction) is answered by its texel's likeliest triangle alone (one triangle tested),
+  // for measuring the cost quoted above (Geodesic.MostLookupsTestOneTriangle).
+  bool located_at_first_candidate(const Vec3& direction) const;
   // The point with the largest dot product with `direction` (ties: any of them).
   uint32_t nearest_point(const Vec3& direction) const;
   // locate's corners (point indices) and weights, sorted by weight descending, for blending.

@@ -32,8 +32,8 @@ ObjectRays trace_object_rays(const Tracer& tracer, const BoundingSphere& bounds,
         trace_specular_tree(tracer, ray, Color(cell_area), settings, stats, [&](const ExitRay& exit) {
           rows[row].push_back(CausticRay{exit.origin, exit.direction, exit.energy, luminance(exit.energy)});
         });
-        // Only the rays that touched the object entered it.
-        if (stats.rays > 1 || stats.exited > 0.0 || stats.absorbed > 0.0 || stats.dropped > 0.0) {
+        // Only the rays that met something entered it.
+        if (stats.missed == 0.0) {
           row_stats[row].add(stats);
         }
       }

@@ -326,6 +326,25 @@ TEST(Geodesic, LookupTableCostAndMemory) {
   }
 }
 
+// locate's cost as geodesic.h states it: a table read, then one triangle tested for most directions.
+// Measured over 200,000 random directions at levels 0, 2, 4 and 6: 0.630 to 0.693 of the lookups on the
+// vertex meshes, 0.568 to 0.641 on the face-centre meshes; asserted above one half for each.
+TEST(Geodesic, MostLookupsTestOneTriangle) {
+  Random random(11, 2);
+  std::vector<Vec3> directions(200000);
+  for (Vec3& d : directions) d = Vec3(random_direction(random));
+  for (int level : {0, 2, 4, 6}) {
+    for (bool at_centers : {false, true}) {
+      const SphericalMesh mesh = at_centers ? SphericalMesh::geodesic_face_centers(level) : SphericalMesh::geodesic_vertices(level);
+      size_t first = 0;
+      for (const Vec3& d : directions) first += mesh.located_at_first_candidate(d) ? 1 : 0;
+      const double share = static_cast<double>(first) / directions.size();
+      std::printf("level %d %s: %.3f of lookups test one triangle\n", level, at_centers ? "face centres" : "vertices", share);
+      EXPECT_GT(share, 0.5) << "level " << level << (at_centers ? " face centres" : " vertices");
+    }
+  }
+}
+
 // Throughput of locate and nearest_point, in thread CPU time (the machine is shared), for random
 // directions and for a 1024 x 1024 latitude-longitude raster (coherent, as an image's receiver points
 // are); run with --gtest_also_run_disabled_tests --gtest_filter='*Throughput*'.

@@ -20,10 +20,14 @@ TEST(PhotonMap, ConvergesToTheReference) {
     errors.push_back(relative_mse(run.caustic, reference.caustic, run.gbuffer.receiver));
     energy.push_back(masked_sum(run.caustic, run.gbuffer.receiver) / masked_sum(reference.caustic, run.gbuffer.receiver));
   }
+  for (size_t i = 0; i < errors.size(); ++i) std::printf("run %zu: relMSE %.4f, energy %.4f\n", i, errors[i], energy[i]);
   EXPECT_LT(errors[1], errors[0]);
   EXPECT_LT(errors[2], errors[1]);
-  EXPECT_LT(errors[2], 0.05) << "relMSE at 1M photons";
-  // Total caustic flux seen by the camera agrees within 10% at 1M photons (measured: 4% low at 10k
-  // photons, 6% low at 1M; see the photon_map README's open questions).
-  EXPECT_NEAR(energy[2], 1.0, 0.10);
+  // Measured against this reference (the footprint tally, 24 M photons): relMSE 0.0307, 0.0110, 0.0043
+  // and energy 1.040, 0.973, 0.997 at 10k, 100k and 1M photons. relMSE at 1M is bounded at 1.5 times its
+  // value, the energy in view within 2 % (nothing is lost: max_radius 0.5 reaches every photon in view).
+  // The "6 % low at 1M" once quoted here was against progressive photon mapping, whose radius bias had
+  // added about 6 % to the reference's sum on this sphere (lpi's environment test measured the same).
+  EXPECT_LT(errors[2], 1.5 * 0.0043) << "relMSE at 1M photons";
+  EXPECT_NEAR(energy[2], 1.0, 0.02);
 }
