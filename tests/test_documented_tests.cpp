@@ -176,11 +176,25 @@ TEST(DocumentedTests, EveryTestCommandADocumentGivesRunsATest) {
         ASSERT_TRUE(fs::is_regular_file(test_folder() / executable)) << at << " runs build/tests/" << executable
                                                                      << ", which is not built";
         if (!filtered) continue;
-        const std::string key = executable + " " + chosen[1].str();
-        if (!selections.count(key)) selections[key] = listed_tests(test_folder() / executable, chosen[1].str());
-        const std::vector<std::string>& selected = selections[key];
+        auto select = [&](const std::string& pattern) -> const std::vector<std::string>& {
+          const std::string key = executable + " " + pattern;
+          if (!selections.count(key)) selections[key] = listed_tests(test_folder() / executable, pattern);
+          return selections[key];
+        };
+        const std::vector<std::string>& selected = select(chosen[1].str());
         EXPECT_FALSE(selected.empty()) << at << ": " << executable << " --gtest_filter='" << chosen[1].str()
                                        << "' selects no test";
+        // Each positive pattern (':' between them, '-' before the negative ones) selects a test of its own:
+        // one renamed pattern beside one that still matches would otherwise pass unseen.
+        const std::string positive = chosen[1].str().substr(0, chosen[1].str().find('-'));
+        for (size_t begin = 0; begin <= positive.size();) {
+          const size_t end = std::min(positive.find(':', begin), positive.size());
+          const std::string pattern = positive.substr(begin, end - begin);
+          if (!pattern.empty() && pattern != positive)
+            EXPECT_FALSE(select(pattern).empty()) << at << ": " << executable << " --gtest_filter's pattern '" << pattern
+                                                  << "' selects no test";
+          begin = end + 1;
+        }
         const bool all_disabled = std::all_of(selected.begin(), selected.end(), [](const std::string& test) {
           return test.find(".DISABLED_") != std::string::npos;
         });
