@@ -42,8 +42,9 @@ std::vector<uint8_t> receivers(const FrameResult& result) { return result.gbuffe
 
 // The glass sphere under a directional light: a few spot lights cover it, and its E_c agrees with
 // the reference's away from the focus and in total. Measured (256 rays a side, reference 6 x
-// 200,000 photons): 5 spot lights covering 0.969 of the rays' energy, relMSE 0.164 away from the
-// focus, energy ratio 0.989. Bounds about twice the errors.
+// 200,000 photons): 5 spot lights covering 0.969 of the rays' energy, relMSE 0.1634 away from the
+// focus, energy ratio 0.9876 (without the intensity correction relMSE 0.424). Bounds 1.5 times the
+// deviations (issue 51); coverage is the energy_coverage default's, 0.95.
 TEST(Csl, GlassSphereMatchesTheReference) {
   const Scene scene = scene_from_yaml(replace_once(kSmallGlassSphere, "resolution: [40, 40]", "resolution: [64, 64]"));
   const FrameResult reference = causticbench::testing::render(scene, "reference", causticbench::testing::kSmallSceneReferenceKnobs);
@@ -57,8 +58,8 @@ TEST(Csl, GlassSphereMatchesTheReference) {
               set["spot_lights"].get<int>(), set["coverage"].get<double>(), relmse, energy);
   EXPECT_LE(set["spot_lights"].get<int>(), 8);
   EXPECT_GE(set["coverage"].get<double>(), 0.95);
-  EXPECT_LT(relmse, 0.3);
-  EXPECT_NEAR(energy, 1.0, 0.03);
+  EXPECT_LT(relmse, 1.5 * 0.1634);
+  EXPECT_NEAR(energy, 1.0, 1.5 * 0.0124);
   // Fig. 6: without the intensity correction of Eq. 4 the focusing is lost.
   const FrameResult uncorrected =
       causticbench::testing::render(scene, "csl", {"rays_per_side=256", "intensity_correction=off"});
