@@ -56,8 +56,8 @@ TEST(PaperExperiments, PerObjectEntriesRunOnlyOnTheirObjects) {
   EXPECT_EQ(variants_of_label["lpi sphere symmetric"], (std::set<std::string>{"sphere"}));
   EXPECT_EQ(variants_of_label["lpi ring faces"], (std::set<std::string>{"ring"}));
   EXPECT_EQ(variants_of_label["lpi flat faces"], (std::set<std::string>{"cube", "prism"}));
-  // 1 + 3 sphere, 3 + 2 ring, 4 cube and 4 prism.
-  EXPECT_EQ(experiment.runs.size(), 17u);
+  // 3 (one light sample in each precision) + 3 sphere, 3 + 2 ring, 4 cube and 4 prism.
+  EXPECT_EQ(experiment.runs.size(), 19u);
 }
 
 TEST(PaperExperiments, CheapestSettingOfEveryEntryRunsEndToEnd) {

@@ -75,10 +75,11 @@ const MethodInfo& CausticMappingMethod::static_info() {
                {"moving_objects", "everything is rendered again every frame"},
                {"occlusion", "light blocked between the light and the object is (the photon buffer's depth test), "
                              "but not between the object and its receivers: the image-space search takes the receiver "
-                             "the light sees for the one the ray meets and puts the light behind an occluder (measured "
-                             "relMSE 32 at 5 search steps, 54 at 20, on the capability case); intersection: exact "
-                             "follows the ray, but the caustic map still holds light only where the light sees a "
-                             "receiver, so light in an occluder's shadow is dropped (relMSE 0.11, energy 0.75 there)"},
+                             "the light sees for the one the ray meets and puts the light behind an occluder (relMSE 34 at "
+                             "5 search steps, 54 at 20, on the capability case); intersection: exact follows the ray, "
+                             "but the caustic map still holds light only where the light sees a receiver, so light in "
+                             "an occluder's shadow is dropped (relMSE 0.11, energy 0.74 there; both measured by "
+                             "configs/experiments/capabilities_knobs.yaml)"},
                {"non_lambertian_receivers", "E_c is irradiance, independent of the receiver's BRDF"}};
     m.quick_knobs = {"photon_resolution=64", "caustic_map_resolution=64"};
     m.counters = {counter_quantity("photons", "photons", "photon-buffer texels on the specular objects, every pass"),

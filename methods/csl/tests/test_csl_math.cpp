@@ -10,9 +10,11 @@
 #include <gtest/gtest.h>
 
 #include "methods/csl/bundles.h"
+#include "methods/csl/csl.h"
 #include "methods/csl/fit.h"
 #include "methods/csl/splat.h"
 #include "methods/csl/spot_light.h"
+#include "tests/test_support.h"
 
 using namespace causticbench;
 using namespace causticbench::csl;
@@ -350,4 +352,38 @@ TEST(CslSplat, ConservesEnergy) {
   const IntensityImage quantised = splat_intensity(rays, members, light, settings);
   quantised.total_flux(&total);
   EXPECT_NEAR(total, energy, 2e-3 * energy);
+}
+
+// raster_extent (Section 3.1.1, step 1's extended bounding volume): the cube the rays' lines are counted
+// in has half side raster_extent bounding radii about the object's centre. A line parallel to an axis
+// crosses exactly `raster_resolution` cells of it when it passes inside, none when it passes outside;
+// so a line 1.05 radii to the side of the centre is counted at raster_extent 1.1 and not at 1.0.
+TEST(CslKnobs, RasterExtentIsTheHalfSideOfTheCubeTheRaysAreCountedIn) {
+  const BoundingSphere bounds{Vec3(0.5f, 1.0f, -0.25f), 0.4f};
+  auto counted = [&](double extent, float offset) {
+    const ParamSet build = causticbench::testing::method_knobs(
+                               "csl", {"raster_extent=" + std::to_string(extent), "raster_resolution=16"})
+                               .build;
+    const GenerateSettings settings = generate_settings(build, bounds, 0.01);
+    EXPECT_DOUBLE_EQ(settings.bundle.raster_half_size, extent * bounds.radius);
+    RayRaster raster(bounds.center, settings.bundle.raster_half_size, settings.bundle.raster_resolution);
+    CausticRay ray;
+    ray.origin = bounds.center + Vec3(-10.0f, offset * bounds.radius, 0.1f * bounds.radius);
+    ray.direction = Vec3(1.0f, 0.0f, 0.0f);
+    ray.weight = 0.25f;
+    raster.add(ray, 1.0);
+    double total = 0.0;
+    int cells = 0;
+    for (int cell = 0; cell < 16 * 16 * 16; ++cell) {
+      total += raster.energy(cell);
+      cells += raster.energy(cell) > 0.0;
+    }
+    EXPECT_DOUBLE_EQ(total, 0.25 * cells) << extent << " " << offset;
+    return cells;
+  };
+  EXPECT_EQ(counted(1.0, 0.0f), 16);
+  EXPECT_EQ(counted(1.0, 1.05f), 0);
+  EXPECT_EQ(counted(1.1, 1.05f), 16);
+  EXPECT_EQ(counted(4.0, 3.9f), 16);
+  EXPECT_EQ(counted(4.0, 4.1f), 0);
 }

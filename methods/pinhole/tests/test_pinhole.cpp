@@ -246,11 +246,23 @@ TEST(Pinhole, ConvergesToTheReference) {
   }
   EXPECT_LT(errors[1], errors[0]);
   EXPECT_LT(errors[2], errors[1]);
-  FrameResult filtered = render(scene, "pinhole", {"samples=10000", "filtering=anisotropic"});
-  double energy = masked_sum(filtered.caustic, filtered.gbuffer.receiver) / masked_sum(reference.caustic, filtered.gbuffer.receiver);
-  // Within a few percent: the reference's own noise is below 1 % here; the rest is the map's resolution.
-  EXPECT_NEAR(energy, 1.0, 0.04);
-  EXPECT_LT(relative_mse(filtered.caustic, reference.caustic, filtered.gbuffer.receiver), errors[0]);
+  // 10,000 samples under the wide light, each filtering (methods/pinhole/README.md, "Measured": the cost
+  // and energy of filtering on a wide light quote these lines). Unfiltered, the dots of single samples
+  // are gone at 10,000 and the energy is the sampling's; filtered, each footprint's integral keeps the
+  // map's light. Each within 3 % of the reference (measured 1.0198 / 1.0204 / 1.0203, relMSE 0.0015
+  // each; the reference's own error is 3e-4 here). The 2 % above the reference is common to the three, so
+  // it is not the filters'; where it comes from is not yet measured. The filtered images are closer than
+  // the unfiltered one at 30 samples.
+  const double reference_flux = masked_sum(reference.caustic, reference.gbuffer.receiver);
+  for (const char* filtering : {"filtering=none", "filtering=isotropic", "filtering=anisotropic"}) {
+    FrameResult run = render(scene, "pinhole", {"samples=10000", filtering});
+    const double energy = masked_sum(run.caustic, run.gbuffer.receiver) / reference_flux;
+    std::printf("10,000 samples, %s: energy %.4f, relMSE %.4f, render %.0f ms\n", filtering, energy,
+                relative_mse(run.caustic, reference.caustic, run.gbuffer.receiver), run.timings.render_milliseconds);
+    EXPECT_NEAR(energy, 1.0, 0.03) << filtering;
+    if (std::string(filtering) != "filtering=none")
+      EXPECT_LT(relative_mse(run.caustic, reference.caustic, run.gbuffer.receiver), errors[0]) << filtering;
+  }
 }
 
 // interaction: refract is Wand's single refraction (methods/pinhole/README.md, "Refraction: one
