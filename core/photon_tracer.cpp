@@ -122,10 +122,11 @@ class CausticPhotonTracer::EmissionDraws {
   uint32_t point_;
 };
 
-bool CausticPhotonTracer::emit(EmissionDraws& draws, Ray& ray, Color& power) const {
+bool CausticPhotonTracer::emit(EmissionDraws& draws, Ray& ray, Color& power, PathLight& light_class) const {
   double light_probability;
   size_t light_index = light_choice_.sample(draws.light(), light_probability);
   const LightFrame& light = lights_[light_index];
+  light_class = path_light_of(light.kind);
   // Choose a target with probability proportional to its weight, then count every target the
   // resulting ray could also have come from: the one-sample balance weight of Veach, exact for overlaps.
   if (light.kind == LightKind::point) {
@@ -202,8 +203,9 @@ bool CausticPhotonTracer::emit(EmissionDraws& draws, Ray& ray, Color& power) con
   return true;
 }
 
-// The one path walk of a caustic photon. `on_receiver(hit, arrival_normal, direction, power)` is called
-// where a path with at least one specular bounce meets a surface with a diffuse part;
+// The one path walk of a caustic photon. `on_receiver(hit, arrival_normal, direction, power, path)` is called
+// where a path with at least one specular bounce meets a surface with a diffuse part (`path`: its class so
+// far, PathClass::packed);
 // `on_segment(segment)` for every straight piece travelled after the first specular bounce.
 template <class OnReceiver, class OnSegment>
 void CausticPhotonTracer::walk(uint64_t index, PhotonStats& stats, OnReceiver&& on_receiver, OnSegment&& on_segment) const {
@@ -220,18 +222,20 @@ void CausticPhotonTracer::walk(uint64_t index, PhotonStats& stats, OnReceiver&& 
     point = static_cast<uint32_t>(index % settings_.stratified_pass_size);
   }
   EmissionDraws draws(random, sobol ? &*sobol : nullptr, point);
-  if (!emit(draws, ray, power)) return;
-  follow(random, ray, power, nullptr, stats, on_receiver, on_segment);
+  PathLight light = PathLight::directional;
+  if (!emit(draws, ray, power, light)) return;
+  follow(random, ray, power, light, nullptr, stats, on_receiver, on_segment);
 }
 
 // The path from an emitted ray on. With `differential`, its ray differentials are carried along: moved
 // to every hit and turned by every reflection and refraction (core/ray_differential.h).
 template <class OnReceiver, class OnSegment>
-void CausticPhotonTracer::follow(Random& random, Ray ray, Color power, RayDifferential* differential, PhotonStats& stats,
-                                 OnReceiver&& on_receiver, OnSegment&& on_segment) const {
+void CausticPhotonTracer::follow(Random& random, Ray ray, Color power, PathLight light, RayDifferential* differential,
+                                 PhotonStats& stats, OnReceiver&& on_receiver, OnSegment&& on_segment) const {
   const Scene& scene = *tracer_.frame().scene;
   float initial = max_component(power);
   int specular_bounces = 0;
+  PathClassifier path;
   const Material* medium = nullptr;  // the glass the photon travels in, if any
   for (int depth = 0; depth <= settings_.max_bounces; ++depth) {
     SurfaceHit hit;
@@ -253,7 +257,7 @@ void CausticPhotonTracer::follow(Random& random, Ray ray, Color power, RayDiffer
     if (material.receives_caustics()) {
       if (specular_bounces > 0) {
         Vec3 arrival_normal = from_outside ? hit.geometric_normal : -hit.geometric_normal;
-        on_receiver(hit, arrival_normal, ray.direction, power);
+        on_receiver(hit, arrival_normal, ray.direction, power, PathClass{path.interaction(), light}.packed());
         ++stats.deposited;
       }
       if (material.kind != MaterialKind::diffuse_mirror) return;
@@ -276,13 +280,16 @@ void CausticPhotonTracer::follow(Random& random, Ray ray, Color power, RayDiffer
       // Choosing reflection with probability F and refraction with 1 - F leaves the power unchanged.
       if (random.uniform() < reflectance || !refract(ray.direction, normal, eta, next)) {
         next = reflect(ray.direction, normal);
+        path.reflection(hit.object, !from_outside);
       } else {
         medium = from_outside ? &material : nullptr;
         refracted = true;
+        path.refraction(hit.object, from_outside);
       }
     } else {
       power *= material.mirror_reflectance(cos_incident);
       next = reflect(ray.direction, normal);
+      path.reflection(hit.object, medium != nullptr);
     }
     if (differential) {
       if (refracted) {
@@ -308,30 +315,46 @@ void CausticPhotonTracer::trace_emitted(uint64_t index, const Ray& ray, const Co
                                         PhotonStats& stats, const DifferentialVisit& visit) const {
   Random random(settings_.seed, index);
   ++stats.emitted;
+  // The caller's emission map knows its light; the path class is not reported here.
   follow(
-      random, ray, power, &differential, stats,
-      [&](const SurfaceHit& hit, const Vec3& arrival_normal, const Vec3& direction, const Color& carried) {
+      random, ray, power, PathLight::directional, &differential, stats,
+      [&](const SurfaceHit& hit, const Vec3& arrival_normal, const Vec3& direction, const Color& carried, uint8_t) {
         visit(hit, arrival_normal, direction, carried, differential);
       },
       [](const PathSegment&) {});
 }
 
 void CausticPhotonTracer::trace_one(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats) const {
+  trace_path(index, photons, stats, nullptr);
+}
+
+void CausticPhotonTracer::trace_path(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats,
+                                     std::vector<uint8_t>* classes) const {
   walk(
       index, stats,
-      [&](const SurfaceHit& hit, const Vec3& arrival_normal, const Vec3& direction, const Color& power) {
+      [&](const SurfaceHit& hit, const Vec3& arrival_normal, const Vec3& direction, const Color& power, uint8_t path) {
         photons.push_back(Photon{hit.position, arrival_normal, direction, power});
+        if (classes) classes->push_back(path);
       },
       [](const PathSegment&) {});
 }
 
 void CausticPhotonTracer::trace_segments(uint64_t index, PhotonStats& stats,
                                          const std::function<void(const PathSegment&)>& visit) const {
-  walk(index, stats, [](const SurfaceHit&, const Vec3&, const Vec3&, const Color&) {}, visit);
+  walk(index, stats, [](const SurfaceHit&, const Vec3&, const Vec3&, const Color&, uint8_t) {}, visit);
 }
 
-void CausticPhotonTracer::trace(uint64_t first, uint64_t count, std::vector<Photon>& photons,
-                                PhotonStats& stats) const {
+void CausticPhotonTracer::trace(uint64_t first, uint64_t count, std::vector<Photon>& photons, PhotonStats& stats) const {
+  trace_blocks(first, count, photons, stats, nullptr);
+}
+
+void CausticPhotonTracer::trace(uint64_t first, uint64_t count, std::vector<Photon>& photons, PhotonStats& stats,
+                                std::vector<uint8_t>& classes) const {
+  trace_blocks(first, count, photons, stats, &classes);
+}
+
+void CausticPhotonTracer::trace_blocks(uint64_t first, uint64_t count, std::vector<Photon>& photons,
+                                       PhotonStats& stats, std::vector<uint8_t>* classes) const {
   if (targets_.empty() || total_weight_ <= 0.0) {
     stats.emitted += count;
     return;
@@ -339,17 +362,21 @@ void CausticPhotonTracer::trace(uint64_t first, uint64_t count, std::vector<Phot
   const size_t block_size = 8192;
   size_t blocks = (count + block_size - 1) / block_size;
   std::vector<std::vector<Photon>> block_photons(blocks);
+  std::vector<std::vector<uint8_t>> block_classes(classes ? blocks : 0);
   std::vector<PhotonStats> block_stats(blocks);
   parallel_blocks(count, block_size, [&](size_t begin, size_t end, size_t block) {
     std::vector<Photon>& local = block_photons[block];
     local.reserve((end - begin) / 2);
-    for (size_t i = begin; i < end; ++i) trace_one(first + i, local, block_stats[block]);
+    for (size_t i = begin; i < end; ++i)
+      trace_path(first + i, local, block_stats[block], classes ? &block_classes[block] : nullptr);
   });
   size_t total = photons.size();
   for (const auto& block : block_photons) total += block.size();
   photons.reserve(total);
+  if (classes) classes->reserve(classes->size() + total - photons.size());
   for (size_t block = 0; block < blocks; ++block) {
     photons.insert(photons.end(), block_photons[block].begin(), block_photons[block].end());
+    if (classes) classes->insert(classes->end(), block_classes[block].begin(), block_classes[block].end());
     stats.add(block_stats[block]);
   }
 }

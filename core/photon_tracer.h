@@ -11,6 +11,7 @@
 #include <functional>
 #include <vector>
 
+#include "core/path_classes.h"
 #include "core/ray_differential.h"
 #include "core/sampling.h"
 #include "core/tracer.h"
@@ -102,6 +103,11 @@ class CausticPhotonTracer {
   // Traces photons with indices [first, first + count). Photon i draws only from Random(seed, i), and
   // the output is in index order, so results do not depend on the thread count. Multithreaded.
   void trace(uint64_t first, uint64_t count, std::vector<Photon>& photons, PhotonStats& stats) const;
+  // The same, and each photon's path class (core/path_classes.h, PathClass::packed) appended to `classes`,
+  // one per photon, in the same order. (An overload, not a defaulted parameter: plugins built against the
+  // SDK link the four-argument trace.)
+  void trace(uint64_t first, uint64_t count, std::vector<Photon>& photons, PhotonStats& stats,
+             std::vector<uint8_t>& classes) const;
   // Traces one photon path; appends at most a few photons (one per receiving surface on the path).
   void trace_one(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats) const;
   // Traces the same path as trace_one(index) and calls `visit` for each of its PathSegments, in order.
@@ -126,11 +132,15 @@ class CausticPhotonTracer {
 
  private:
   class EmissionDraws;
-  bool emit(EmissionDraws& draws, Ray& ray, Color& power) const;
+  void trace_blocks(uint64_t first, uint64_t count, std::vector<Photon>& photons, PhotonStats& stats,
+                    std::vector<uint8_t>* classes) const;
+  void trace_path(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats, std::vector<uint8_t>* classes) const;
+  // Draws an emission: its ray, its power and the kind of light it left.
+  bool emit(EmissionDraws& draws, Ray& ray, Color& power, PathLight& light) const;
   template <class OnReceiver, class OnSegment>
   void walk(uint64_t index, PhotonStats& stats, OnReceiver&& on_receiver, OnSegment&& on_segment) const;
   template <class OnReceiver, class OnSegment>
-  void follow(Random& random, Ray ray, Color power, RayDifferential* differential, PhotonStats& stats,
+  void follow(Random& random, Ray ray, Color power, PathLight light, RayDifferential* differential, PhotonStats& stats,
               OnReceiver&& on_receiver, OnSegment&& on_segment) const;
 
   const Tracer& tracer_;

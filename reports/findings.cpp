@@ -5,6 +5,7 @@
 
 #include "core/errors.h"
 #include "reports/report_parts.h"
+#include "reports/scene_requirements.h"
 
 namespace causticbench::report_detail {
 
@@ -169,6 +170,10 @@ std::vector<std::string> findings(const Report& report, bool html) {
                                   num(*variant.reference_error), ratio >= 10.0 ? "well below" : "NOT well below",
                                   fmt::format("{:.3g}", ratio)));
     }
+    // The reference's caustic flux in view by light-path class (the first frame's; issue 52).
+    if (std::optional<std::string> required = scene_requirements_text(variant.reference))
+      lines.push_back(fmt::format("What this scene requires{} (the reference's caustic flux in view, frame {}): {}.", in,
+                                  variant.reference.value("frame", 0), text(*required)));
   }
   // The baselines (metrics/baselines.h): what showing nothing scores, who does not beat it, and the metrics
   // on which it beats most runs.

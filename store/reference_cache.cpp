@@ -194,6 +194,8 @@ void write_summary(const fs::path& folder, const std::string& key) {
     stored_frames[std::to_string(index)] = {{"error_estimate", (*stored)["error_estimate"]}, {"passes", (*stored)["passes"]},
                                             {"seconds", (*stored)["seconds"]}, {"stop_reason", (*stored)["stop_reason"]},
                                             {"converged", !reason}};
+    // What the frame requires (issue 52); absent from references computed before it was measured.
+    if (stored->contains("path_classes")) stored_frames[std::to_string(index)]["path_classes"] = (*stored)["path_classes"];
     if (first < 0 || index < first) {
       first = index;
       summary = *stored;

@@ -265,6 +265,32 @@ TEST_F(ReportTest, RunsOfAnOlderReferenceAreStaleNotCompared) {
   EXPECT_TRUE(found);
 }
 
+// Issue 52: the reference's split of its caustic flux in view into light-path classes is one finding, classes
+// in falling share with their standard errors, those under 0.05 % left out; a reference without the split
+// (computed before it was measured) gives no such line.
+TEST_F(ReportTest, FindingsSayWhatTheSceneRequires) {
+  std::string md = read_text(write_report(folder.string()).markdown);
+  EXPECT_EQ(md.find("What this scene requires"), std::string::npos) << md;
+  const fs::path record_path = folder.parent_path() / "references" / "ref123" / "record.json";
+  json record = json::parse(read_text(record_path));
+  auto share = [](double value, json error) { return json{{"share", value}, {"standard_error", error}}; };
+  record["frame"] = 0;
+  record["path_classes"]["in_view"] = {
+      {"flux", 0.5},
+      {"interaction",
+       {{"one_reflection", share(0.2, 0.01)}, {"one_pass", share(0.7996, 0.012)}, {"multiple", share(0.0004, nullptr)}}},
+      {"light", {{"directional", share(1.0, 0.0)}, {"point", share(0.0, nullptr)}}}};
+  record["path_classes"]["in_view"]["interaction"]["one_reflection"]["capability"] = "reflection";
+  record["path_classes"]["in_view"]["interaction"]["one_pass"]["capability"] = "refraction";
+  write_json(record_path, record);
+  md = read_text(write_report(folder.string()).markdown);
+  EXPECT_NE(md.find("What this scene requires (the reference's caustic flux in view, frame 0): 80.0 % (\u00b1 1.2) one "
+                    "pass through a refracting object (refraction), 20.0 % (\u00b1 1.0) one reflection (reflection); "
+                    "light: 100.0 % (\u00b1 0.0) directional."),
+            std::string::npos)
+      << md;
+}
+
 TEST_F(ReportTest, TradeoffsOnAnyAxesAndTheViews) {
   json experiment = json::parse(read_text(folder / "experiment.json"));
   experiment["tradeoffs"] = json::array({json::array({"frame_ms", "relmse"}), json::array({"memory_bytes", "psnr"}),

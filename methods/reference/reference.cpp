@@ -12,6 +12,7 @@
 #include "core/parallel.h"
 #include "core/progress.h"
 #include "methods/common/photon_memory.h"
+#include "methods/reference/path_class_tally.h"
 #include "methods/reference/reference_estimators.h"
 
 namespace causticbench {
@@ -108,6 +109,9 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
 
   PhotonStats stats;
   std::vector<Photon> photons;
+  std::vector<uint8_t> classes;   // each photon's path class (core/path_classes.h)
+  std::vector<int32_t> targets;   // each photon's point, -1 where not in view; released after each stream
+  PathClassTally path_classes;
   nlohmann::json history = nlohmann::json::array();
   Progress progress("reference", 1.0);
   double trace_seconds = 0.0, credit_seconds = 0.0;
@@ -118,12 +122,17 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   while (true) {
     for (int h = 0; h < streams; ++h) {
       photons.clear();
+      classes.clear();
+      targets.assign(0, -1);
       auto trace_start = std::chrono::steady_clock::now();
-      photon_tracers[h].trace(static_cast<uint64_t>(pass) * photons_per_stream, photons_per_stream, photons, stats);
+      photon_tracers[h].trace(static_cast<uint64_t>(pass) * photons_per_stream, photons_per_stream, photons, stats,
+                              classes);
       auto credit_start = std::chrono::steady_clock::now();
       trace_seconds += std::chrono::duration<double>(credit_start - trace_start).count();
-      if (points.size() > 0) credited += tally.credit(points, *camera_, *tracer_, photons);
+      if (points.size() > 0) credited += tally.credit(points, *camera_, *tracer_, photons, &targets);
       tally.end_replicate(photons_per_stream);
+      path_classes.add_replicate(photons, classes, targets, photons_per_stream);
+      std::vector<int32_t>().swap(targets);  // not held while the next stream traces (knob_memory's bound)
       credit_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - credit_start).count();
       if (progressive) {
         halves[h].add_emitted(photons_per_stream);
@@ -189,6 +198,7 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
              {"error_definition", kReferenceErrorDefinition},
              {"stop_reason", stop_reason},
              {"measurement_points", points.size()},
+             {"path_classes", path_classes.to_json()},
              {"history", history}};
   return result;
 }

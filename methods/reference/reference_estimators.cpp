@@ -22,7 +22,7 @@ MeasurementPoints::MeasurementPoints(const GBuffer& gbuffer)
 }
 
 uint64_t FootprintTally::credit(const MeasurementPoints& points, const CameraFrame& camera, const Tracer& tracer,
-                                const std::vector<Photon>& photons) {
+                                const std::vector<Photon>& photons, std::vector<int32_t>* targets) {
   std::vector<int32_t> target(photons.size(), -1);
   std::vector<double> weight(photons.size(), 0.0);
   parallel_blocks(photons.size(), 2048, [&](size_t begin, size_t end, size_t) {
@@ -46,6 +46,7 @@ uint64_t FootprintTally::credit(const MeasurementPoints& points, const CameraFra
     replicate_sum_[target[i]] += contribution;
     ++credited;
   }
+  if (targets) *targets = std::move(target);
   return credited;
 }
 

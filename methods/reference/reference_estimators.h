@@ -44,8 +44,9 @@ class FootprintTally {
   // Credits the photons of one batch: projects each through the camera, keeps it when the camera sees
   // the side it arrived on with nothing in between and its pixel is a receiver. Deterministic for any
   // thread count (the sums run in photon order). Returns how many were credited.
+  // With `targets`, it receives each photon's point (-1: not credited).
   uint64_t credit(const MeasurementPoints& points, const CameraFrame& camera, const Tracer& tracer,
-                  const std::vector<Photon>& photons);
+                  const std::vector<Photon>& photons, std::vector<int32_t>* targets = nullptr);
   // Ends the current replicate, of `emitted` photons (every photon credited since the last call).
   void end_replicate(uint64_t emitted);
   uint64_t emitted() const { return emitted_; }

@@ -1,0 +1,81 @@
+#include "methods/reference/path_class_tally.h"
+
+#include <cmath>
+
+namespace causticbench {
+
+void PathClassTally::add_replicate(const std::vector<Photon>& photons, const std::vector<uint8_t>& classes,
+                                   const std::vector<int32_t>& targets, uint64_t emitted) {
+  Sums view, all;
+  const double scale = 1.0 / static_cast<double>(std::max<uint64_t>(1, emitted));
+  for (size_t i = 0; i < photons.size() && i < classes.size(); ++i) {
+    const PathClass path = PathClass::unpack(classes[i]);
+    const double flux = static_cast<double>(luminance(photons[i].power)) * scale;
+    for (Sums* sums : {&all, targets.size() > i && targets[i] >= 0 ? &view : nullptr}) {
+      if (!sums) continue;
+      sums->interaction[static_cast<size_t>(path.interaction)] += flux;
+      sums->light[static_cast<size_t>(path.light)] += flux;
+      sums->total += flux;
+    }
+  }
+  in_view_.push_back(view);
+  everywhere_.push_back(all);
+}
+
+namespace {
+
+// The share of class flux F in the total T over R replicates, Σ F_r / Σ T_r, and the standard error of
+// that ratio from the replicates' residuals F_r - share T_r (the delta method for a ratio of means).
+template <class Pick>
+nlohmann::json share_of(const std::vector<PathClassTally::Sums>& replicates, Pick pick, const char* capability) {
+  double class_sum = 0.0, total_sum = 0.0;
+  for (const auto& sums : replicates) class_sum += pick(sums), total_sum += sums.total;
+  const double share = total_sum > 0.0 ? class_sum / total_sum : 0.0;
+  nlohmann::json entry = {{"share", share}, {"capability", capability}, {"standard_error", nullptr}};
+  const size_t r = replicates.size();
+  if (r >= 2 && total_sum > 0.0) {
+    double residuals = 0.0;
+    for (const auto& sums : replicates) {
+      const double d = pick(sums) - share * sums.total;
+      residuals += d * d;
+    }
+    const double mean_total = total_sum / static_cast<double>(r);
+    entry["standard_error"] = std::sqrt(residuals / (static_cast<double>(r) * static_cast<double>(r - 1))) / mean_total;
+  }
+  return entry;
+}
+
+nlohmann::json shares(const std::vector<PathClassTally::Sums>& replicates) {
+  double total = 0.0;
+  for (const auto& sums : replicates) total += sums.total;
+  nlohmann::json out = {{"flux", replicates.empty() ? 0.0 : total / static_cast<double>(replicates.size())},
+                        {"replicates", replicates.size()}};
+  for (int k = 0; k < kPathInteractions; ++k) {
+    const auto interaction = static_cast<PathInteraction>(k);
+    out["interaction"][path_interaction_name(interaction)] =
+        share_of(replicates, [k](const PathClassTally::Sums& s) { return s.interaction[static_cast<size_t>(k)]; },
+                 path_interaction_capability(interaction));
+  }
+  for (int k = 0; k < kPathLights; ++k) {
+    const auto light = static_cast<PathLight>(k);
+    out["light"][path_light_name(light)] =
+        share_of(replicates, [k](const PathClassTally::Sums& s) { return s.light[static_cast<size_t>(k)]; },
+                 path_light_capability(light));
+  }
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json PathClassTally::to_json() const {
+  return {{"definition", "share of the reference's caustic flux (luminance) in each light-path class: by "
+                         "interaction (one_reflection: one reflection off an object's outside; one_pass: into one "
+                         "refracting object and out with nothing between, or into an open surface's medium; "
+                         "multiple: everything else) and by the light's kind; in view: the photons credited to a "
+                         "receiver pixel; everywhere: every photon deposited on a receiver; standard_error from the "
+                         "spread of the passes (core/path_classes.h)"},
+          {"in_view", shares(in_view_)},
+          {"everywhere", shares(everywhere_)}};
+}
+
+}  // namespace causticbench

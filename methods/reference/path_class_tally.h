@@ -1,0 +1,40 @@
+// What a scene requires (issue 52): the share of the reference's caustic flux in each light-path class
+// (core/path_classes.h), in view (the photons the footprint tally credits to a receiver pixel) and
+// everywhere (every photon deposited on a receiver, in view or not), with the sampling error of each share
+// from the spread of the replicates (the passes of stratified emission, independent of each other).
+// Stored with the reference's record ("path_classes", methods/reference/README.md, "What a scene requires").
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/path_classes.h"
+#include "core/photon_tracer.h"
+
+namespace causticbench {
+
+class PathClassTally {
+ public:
+  // One replicate's flux per photon emitted (W, luminance), per class and in all.
+  struct Sums {
+    std::array<double, kPathInteractions> interaction{};
+    std::array<double, kPathLights> light{};
+    double total = 0.0;
+  };
+  // One replicate of `emitted` photons: `classes[i]` is photon i's PathClass::packed, `targets[i]` the
+  // measurement point the footprint tally credited it to (-1: not in view).
+  void add_replicate(const std::vector<Photon>& photons, const std::vector<uint8_t>& classes,
+                     const std::vector<int32_t>& targets, uint64_t emitted);
+  // {"definition", "in_view": {...}, "everywhere": {...}}; each holds "flux" (W, luminance, over the
+  // photons emitted), "replicates", and per interaction and per light class its "share", "standard_error"
+  // (null with fewer than two replicates) and the "capability" a method needs for it.
+  nlohmann::json to_json() const;
+
+ private:
+  std::vector<Sums> in_view_, everywhere_;  // per replicate
+};
+
+}  // namespace causticbench

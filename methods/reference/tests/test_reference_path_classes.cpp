@@ -1,0 +1,166 @@
+// What a scene requires (issue 52): the reference's split of its caustic flux into light-path classes
+// (core/path_classes.h, methods/reference/path_class_tally.h) against scenes whose answer is known in
+// closed form. Fixed seeds; each tolerance states its reason.
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/optics.h"
+#include "core/path_classes.h"
+#include "core/image_statistics.h"
+#include "core/scene.h"
+#include "tests/test_support.h"
+
+using namespace causticbench;
+using causticbench::testing::render;
+using causticbench::testing::scene_from_yaml;
+
+namespace {
+
+// Four stratified passes: the shares' standard errors come from their spread.
+FrameResult reference_of(const Scene& scene, int frame = 0) {
+  return render(scene, "reference",
+                {"photons_per_pass=100000", "max_passes=4", "min_passes=4", "target_error=0", "max_seconds=0"}, frame);
+}
+
+const nlohmann::json& entry(const FrameResult& result, const std::string& where, const std::string& group,
+                            const std::string& name) {
+  return result.method_record.at("path_classes").at(where).at(group).at(name);
+}
+
+double share(const FrameResult& result, const std::string& where, const std::string& group, const std::string& name) {
+  return entry(result, where, group, name).at("share").get<double>();
+}
+
+Scene capability_case(const std::string& name) {
+  return load_scene(causticbench::testing::shipped_scenes() + "/capabilities/" + name + ".yaml");
+}
+
+}  // namespace
+
+TEST(PathClassifier, ClassesEverySequenceOfEvents) {
+  auto after = [](auto&& events) {
+    PathClassifier path;
+    events(path);
+    return path.interaction();
+  };
+  EXPECT_EQ(after([](PathClassifier& p) { p.reflection(1, false); }), PathInteraction::one_reflection);
+  EXPECT_EQ(after([](PathClassifier& p) { p.reflection(1, false), p.reflection(2, false); }), PathInteraction::multiple);
+  EXPECT_EQ(after([](PathClassifier& p) { p.refraction(1, true); }), PathInteraction::one_pass);  // water
+  EXPECT_EQ(after([](PathClassifier& p) { p.refraction(1, true), p.refraction(1, false); }), PathInteraction::one_pass);
+  // An internal reflection, a second object, the same object entered again (a torus's arm to arm), a
+  // reflection after the pass, and a refraction after a reflection are all multiple.
+  EXPECT_EQ(after([](PathClassifier& p) { p.refraction(1, true), p.reflection(1, true), p.refraction(1, false); }),
+            PathInteraction::multiple);
+  EXPECT_EQ(after([](PathClassifier& p) { p.refraction(1, true), p.refraction(1, false), p.refraction(2, true); }),
+            PathInteraction::multiple);
+  EXPECT_EQ(after([](PathClassifier& p) {
+              p.refraction(1, true), p.refraction(1, false), p.refraction(1, true), p.refraction(1, false);
+            }),
+            PathInteraction::multiple);
+  EXPECT_EQ(after([](PathClassifier& p) { p.refraction(1, true), p.refraction(1, false), p.reflection(3, false); }),
+            PathInteraction::multiple);
+  EXPECT_EQ(after([](PathClassifier& p) { p.reflection(3, false), p.refraction(1, true); }), PathInteraction::multiple);
+  // A reflection off a mirror under water (inside a medium) after entering it: multiple.
+  EXPECT_EQ(after([](PathClassifier& p) { p.refraction(1, true), p.reflection(3, true); }), PathInteraction::multiple);
+  for (uint8_t byte = 0; byte < 12; ++byte) {
+    const PathClass path = PathClass::unpack(byte);
+    if (static_cast<int>(path.interaction) < kPathInteractions) EXPECT_EQ(path.packed(), byte);
+  }
+}
+
+// One mirror, one reflection: every photon of the capability case's twin (the second periscope mirror
+// alone, lit from the side) is one reflection; the periscope's own floor sees light only after both
+// mirrors, so all of it is multiple. Exact: no other path reaches a receiver.
+TEST(ReferencePathClasses, OneMirrorIsOneReflectionAndAPeriscopeIsMultiple) {
+  const FrameResult one = reference_of(capability_case("multiple_bounces_without"));
+  ASSERT_GT(one.method_record.at("path_classes").at("in_view").at("flux").get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(share(one, "in_view", "interaction", "one_reflection"), 1.0);
+  EXPECT_DOUBLE_EQ(share(one, "everywhere", "interaction", "one_reflection"), 1.0);
+  EXPECT_DOUBLE_EQ(share(one, "in_view", "light", "directional"), 1.0);
+  EXPECT_EQ(entry(one, "in_view", "interaction", "one_reflection").at("capability"), "reflection");
+  const FrameResult periscope = reference_of(capability_case("multiple_bounces"));
+  ASSERT_GT(periscope.method_record.at("path_classes").at("in_view").at("flux").get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(share(periscope, "in_view", "interaction", "multiple"), 1.0);
+  EXPECT_EQ(entry(periscope, "in_view", "interaction", "multiple").at("capability"), "multiple_bounces");
+}
+
+// Wavy water over a pool floor, the camera under the surface: the light enters the water once and lands
+// on the floor inside it, so all of it is one pass (refraction). The waves are gentle, so that no
+// refracted ray meets the surface again from below.
+TEST(ReferencePathClasses, WaterIsOnePass) {
+  const FrameResult water = reference_of(capability_case("refraction"), 1);
+  ASSERT_GT(water.method_record.at("path_classes").at("in_view").at("flux").get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(share(water, "in_view", "interaction", "one_pass"), 1.0);
+  EXPECT_EQ(entry(water, "in_view", "interaction", "one_pass").at("capability"), "refraction");
+}
+
+// A glass slab (n = 1.5, 0.2 thick) 0.5 above the floor under light from straight above: the light goes
+// in and out with weight (1 - F)^2 (one pass), or is reflected inside 2k times first, (1 - F)^2 F^(2k)
+// (multiple); the light reflected off the top leaves upwards. The floor receives (1 - F)^2 / (1 - F^2)
+// in all, of which (1 - F)^2 F^2 / (1 - F^2) is multiple: a share of exactly F^2, with
+// F = ((n - 1) / (n + 1))^2 = 0.04: 0.0016. Bounded at four standard errors of the reference's own
+// estimate (about 600 of the 400,000 photons).
+TEST(ReferencePathClasses, AGlassSlabsInternalReflectionsAreItsMultipleShare) {
+  const Scene slab = scene_from_yaml(R"(
+camera: {type: orthographic, position: [0, 5, 0.01], look_at: [0, 0, 0], view_height: 4, resolution: [24, 24]}
+lights: [{type: directional, direction: [0, -1, 0], irradiance: 1}]
+objects:
+  - shape: {type: quad, size: [8, 8]}
+    material: {type: diffuse}
+  - shape: {type: box, size: [1, 0.2, 1]}
+    material: {type: glass, ior: 1.5}
+    transform: {translate: [0, 0.6, 0]}
+)");
+  const FrameResult result = reference_of(slab);
+  const double fresnel = fresnel_dielectric(1.0f, 1.5f);
+  ASSERT_NEAR(fresnel, 0.04, 1e-6);
+  const nlohmann::json& multiple = entry(result, "everywhere", "interaction", "multiple");
+  const double error = multiple.at("standard_error").get<double>();
+  std::printf("slab: multiple share %.5f (standard error %.5f), closed form %.5f\n", multiple.at("share").get<double>(),
+              error, fresnel * fresnel);
+  EXPECT_GT(error, 0.0);
+  EXPECT_NEAR(multiple.at("share").get<double>(), fresnel * fresnel, 4.0 * error + 1e-5);
+  EXPECT_NEAR(share(result, "everywhere", "interaction", "one_pass"), 1.0 - fresnel * fresnel, 4.0 * error + 1e-5);
+  EXPECT_DOUBLE_EQ(share(result, "everywhere", "interaction", "one_reflection"), 0.0);
+}
+
+// Each light kind is its own class: the point-light case's light is all point light, the environment
+// case's all environment.
+TEST(ReferencePathClasses, EachLightKindIsItsOwnClass) {
+  const FrameResult point = reference_of(capability_case("point_light"), 1);
+  EXPECT_DOUBLE_EQ(share(point, "in_view", "light", "point"), 1.0);
+  EXPECT_EQ(entry(point, "in_view", "light", "point").at("capability"), "point_light");
+  const FrameResult environment = reference_of(capability_case("environment_light"), 1);
+  EXPECT_DOUBLE_EQ(share(environment, "in_view", "light", "environment"), 1.0);
+  EXPECT_DOUBLE_EQ(share(environment, "in_view", "interaction", "one_reflection"), 1.0);
+}
+
+// Two independent measures of the same split on the glass sphere: the classes the tracer tags, and the
+// reference cut at max_bounces 1 (only one reflection reaches a receiver) and 2 (also in and out; any
+// other path off a lone convex ball needs three events). So one_reflection is F(1) / F and one_pass is
+// (F(2) - F(1)) / F, F the flux in view (luminance) each render credits, the same photons (one seed) in
+// all three, so they agree exactly (0.0336 and 0.9634 of the light in view) unless the tags and the cut
+// disagree on some path; bounded at 1e-4. (The images' summed E_c would not do: pixels cover different
+// areas of the floor.)
+TEST(ReferencePathClasses, TheSplitAgreesWithTheReferenceCutAtOneAndTwoBounces) {
+  const Scene sphere = load_scene(causticbench::testing::shipped_scenes() + "/glass_sphere.yaml");
+  const std::vector<std::string> knobs = {"photons_per_pass=200000", "max_passes=4", "min_passes=4", "target_error=0",
+                                          "max_seconds=0"};
+  auto flux_with_bounces = [&](int bounces) {
+    std::vector<std::string> cut = knobs;
+    cut.push_back("max_bounces=" + std::to_string(bounces));
+    return render(sphere, "reference", cut).method_record.at("path_classes").at("in_view").at("flux").get<double>();
+  };
+  const FrameResult full = render(sphere, "reference", knobs);
+  const double total = full.method_record.at("path_classes").at("in_view").at("flux").get<double>();
+  ASSERT_GT(total, 0.0);
+  const double one = flux_with_bounces(1), two = flux_with_bounces(2);
+  std::printf("glass sphere in view: one_reflection %.4f (cut at 1: %.4f), one_pass %.4f (cut at 2 less 1: %.4f)\n",
+              share(full, "in_view", "interaction", "one_reflection"), one / total,
+              share(full, "in_view", "interaction", "one_pass"), (two - one) / total);
+  EXPECT_NEAR(share(full, "in_view", "interaction", "one_reflection"), one / total, 1e-4);
+  EXPECT_NEAR(share(full, "in_view", "interaction", "one_pass"), (two - one) / total, 1e-4);
+}

@@ -1,0 +1,63 @@
+#include "reports/scene_requirements.h"
+
+#include <algorithm>
+#include <vector>
+
+#include <fmt/format.h>
+
+namespace causticbench::report_detail {
+
+namespace {
+
+const char* describe_interaction(const std::string& name) {
+  if (name == "one_reflection") return "one reflection";
+  if (name == "one_pass") return "one pass through a refracting object";
+  return "multiple bounces";
+}
+
+// "96.4 % (± 0.1)" for a share and its standard error; the error left out where unknown.
+std::string percent(const nlohmann::json& entry) {
+  const double share = entry.value("share", 0.0);
+  const nlohmann::json& error = entry.contains("standard_error") ? entry["standard_error"] : nlohmann::json();
+  std::string text = fmt::format("{:.1f} %", 100.0 * share);
+  if (error.is_number()) text += fmt::format(" (\u00b1 {:.1f})", 100.0 * error.get<double>());
+  return text;
+}
+
+// The classes of one grouping ("interaction" or "light"), largest share first, those above 0.05 %.
+std::vector<std::string> listed(const nlohmann::json& group, bool interaction) {
+  std::vector<std::pair<double, std::string>> entries;
+  if (!group.is_object()) return {};
+  for (const auto& [name, entry] : group.items()) {
+    const double share = entry.value("share", 0.0);
+    if (share < 0.0005) continue;
+    const std::string what = interaction ? fmt::format("{} ({})", describe_interaction(name),
+                                                       entry.value("capability", std::string()))
+                                         : name;
+    entries.emplace_back(share, percent(entry) + " " + what);
+  }
+  std::stable_sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<std::string> texts;
+  for (const auto& [share, text] : entries) texts.push_back(text);
+  return texts;
+}
+
+std::string joined(const std::vector<std::string>& parts) {
+  std::string text;
+  for (size_t i = 0; i < parts.size(); ++i) text += (i ? ", " : "") + parts[i];
+  return text;
+}
+
+}  // namespace
+
+std::optional<std::string> scene_requirements_text(const nlohmann::json& reference_record) {
+  if (!reference_record.is_object() || !reference_record.contains("path_classes")) return std::nullopt;
+  const nlohmann::json& in_view = reference_record["path_classes"].value("in_view", nlohmann::json());
+  if (!in_view.is_object() || in_view.value("flux", 0.0) <= 0.0) return std::nullopt;
+  const std::vector<std::string> interactions = listed(in_view.value("interaction", nlohmann::json()), true);
+  const std::vector<std::string> lights = listed(in_view.value("light", nlohmann::json()), false);
+  if (interactions.empty()) return std::nullopt;
+  return joined(interactions) + (lights.empty() ? "" : "; light: " + joined(lights));
+}
+
+}  // namespace causticbench::report_detail

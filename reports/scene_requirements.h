@@ -1,0 +1,18 @@
+// "What this scene requires" (issue 52): the reference's caustic flux in view split into light-path
+// classes (methods/reference/path_class_tally.h), as one sentence of the report's findings.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace causticbench::report_detail {
+
+// From a reference record (its "path_classes"): "96.4 % (± 0.1) one pass through a refracting object
+// (refraction), 3.6 % one reflection (reflection); light: 100 % directional", classes in falling share,
+// those below 0.05 % left out. Nothing when the record has no split (a reference computed before it was
+// measured) or no caustic flux in view.
+std::optional<std::string> scene_requirements_text(const nlohmann::json& reference_record);
+
+}  // namespace causticbench::report_detail
