@@ -15,12 +15,13 @@ const char* describe_interaction(const std::string& name) {
   return "multiple bounces";
 }
 
-// "96.4 % (± 0.1)" for a share and its standard error; the error left out where unknown.
+// "96.4 % (± 0.045)" for a share and its standard error (percentage points); the error left out where unknown.
 std::string percent(const nlohmann::json& entry) {
   const double share = entry.value("share", 0.0);
   const nlohmann::json& error = entry.contains("standard_error") ? entry["standard_error"] : nlohmann::json();
   std::string text = fmt::format("{:.1f} %", 100.0 * share);
-  if (error.is_number()) text += fmt::format(" (\u00b1 {:.1f})", 100.0 * error.get<double>());
+  // Two significant digits: the split of a converged reference is often known to a few hundredths of a percent.
+  if (error.is_number()) text += fmt::format(" (\u00b1 {:.2g})", 100.0 * error.get<double>());
   return text;
 }
 

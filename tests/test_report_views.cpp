@@ -285,8 +285,8 @@ TEST_F(ReportTest, FindingsSayWhatTheSceneRequires) {
   write_json(record_path, record);
   md = read_text(write_report(folder.string()).markdown);
   EXPECT_NE(md.find("What this scene requires (the reference's caustic flux in view, frame 0): 80.0 % (\u00b1 1.2) one "
-                    "pass through a refracting object (refraction), 20.0 % (\u00b1 1.0) one reflection (reflection); "
-                    "light: 100.0 % (\u00b1 0.0) directional."),
+                    "pass through a refracting object (refraction), 20.0 % (\u00b1 1) one reflection (reflection); "
+                    "light: 100.0 % (\u00b1 0) directional."),
             std::string::npos)
       << md;
 }
