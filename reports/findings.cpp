@@ -1,10 +1,13 @@
 // The summary at the top of report.html and report.md: the experiment's facts beside the environment,
 // and the one-line findings (run counts, claims, and per variant the best and fastest run, the front
 // over all methods and whether the reference's estimated error sits well below the best relMSE).
+#include <map>
+
 #include <fmt/format.h>
 
 #include "core/errors.h"
 #include "reports/report_parts.h"
+#include "reports/light_accounting.h"
 #include "reports/scene_requirements.h"
 
 namespace causticbench::report_detail {
@@ -174,6 +177,29 @@ std::vector<std::string> findings(const Report& report, bool html) {
     if (std::optional<std::string> required = scene_requirements_text(variant.reference))
       lines.push_back(fmt::format("What this scene requires{} (the reference's caustic flux in view, frame {}): {}.", in,
                                   variant.reference.value("frame", 0), text(*required)));
+    // Where each run's light went (reports/light_accounting.h): what each method does not model, once per
+    // method, and every run whose light is not accounted for.
+    std::map<std::string, std::string> not_modelled;
+    for (size_t i : report.ok_runs()) {
+      if (report.runs[i].variant_index != v) continue;
+      const std::optional<LightAccount> account = account_for_run(report, report.runs[i]);
+      if (!account) continue;
+      if (account->model >= 0.0005 && !not_modelled.count(report.runs[i].method)) {
+        std::string needs;
+        for (const auto& [capability, share] : account->unmodelled)
+          needs += fmt::format("{}{} {:.1f} %", needs.empty() ? "" : ", ", capability, 100.0 * share);
+        not_modelled[report.runs[i].method] =
+            fmt::format("{} does not model {:.1f} % of it ({})", report.runs[i].method, 100.0 * account->model, needs);
+      }
+      if (account->flagged)
+        lines.push_back(fmt::format("Light not accounted for{}: {} {}.", in, name(i), text(describe_light_account(*account))));
+    }
+    if (!not_modelled.empty()) {
+      std::vector<std::string> parts;
+      for (const auto& [method, part] : not_modelled) parts.push_back(text(part));
+      lines.push_back(fmt::format("Declared limits{} (the reference's light in view each method declares it does not "
+                                  "model): {}.", in, join(parts, "; ")));
+    }
   }
   // The baselines (metrics/baselines.h): what showing nothing scores, who does not beat it, and the metrics
   // on which it beats most runs.

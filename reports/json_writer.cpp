@@ -2,6 +2,7 @@
 // older record lacks them), the variants with their references, the Pareto fronts and the checked
 // claims, for scripts (docs/reports.md, "Outputs").
 #include "reports/capability_matrix.h"
+#include "reports/light_accounting.h"
 #include "reports/report_parts.h"
 
 namespace causticbench::report_detail {
@@ -16,6 +17,15 @@ std::string results_json(const Report& report) {
     if (run.record.reference_key.empty()) record["reference_key"] = run.reference_key;
     if (!run.record.receiver_pixels) record["receiver_pixels"] = nullptr;
     if (run.stale) record["stale"] = run.error;
+    // Where its light went (reports/light_accounting.h), against its variant's reference.
+    if (run.ok)
+      if (std::optional<LightAccount> account = account_for_run(report, run)) {
+        json unmodelled = json::object();
+        for (const auto& [capability, share] : account->unmodelled) unmodelled[capability] = share;
+        record["light_account"] = {{"energy", account->energy}, {"lost", account->lost}, {"model", account->model},
+                                   {"unexplained", account->unexplained}, {"flagged", account->flagged},
+                                   {"unmodelled", unmodelled}};
+      }
     runs.push_back(record);
   }
   auto keys = [&](const std::vector<size_t>& indices) {

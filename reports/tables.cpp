@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 
+#include "reports/light_accounting.h"
 #include "reports/report_parts.h"
 
 namespace causticbench::report_detail {
@@ -127,6 +128,10 @@ Table results_table(const Report& report) {
     const LostFlux* lost = run.record.lost_flux ? &run.record.lost_flux->worst : nullptr;
     const bool loses = lost && lost->fraction > kLostFluxWarning;
     if (loses) label += fmt::format(" (loses {:.0f} % of the caustic: {})", 100.0 * lost->fraction, lost->knob);
+    const std::optional<LightAccount> account = account_for_run(report, run);
+    if (account && account->flagged)
+      label += fmt::format(" ({:.0f} % of the light unexplained{})", 100.0 * std::abs(account->unexplained),
+                           account->unexplained < 0.0 ? ", in excess" : "");
     const bool black_is_as_good = no_better_than_black(report, run);
     if (black_is_as_good) label += " (no better than a black image)";
     row.push_back({run.method});

@@ -15,6 +15,7 @@ void PathClassTally::add_replicate(const std::vector<Photon>& photons, const std
       if (!sums) continue;
       sums->interaction[static_cast<size_t>(path.interaction)] += flux;
       sums->light[static_cast<size_t>(path.light)] += flux;
+      sums->joint[static_cast<size_t>(path.interaction) * kPathLights + static_cast<size_t>(path.light)] += flux;
       sums->total += flux;
     }
   }
@@ -62,6 +63,17 @@ nlohmann::json shares(const std::vector<PathClassTally::Sums>& replicates) {
         share_of(replicates, [k](const PathClassTally::Sums& s) { return s.light[static_cast<size_t>(k)]; },
                  path_light_capability(light));
   }
+  for (int i = 0; i < kPathInteractions; ++i)
+    for (int k = 0; k < kPathLights; ++k) {
+      const auto interaction = static_cast<PathInteraction>(i);
+      const auto light = static_cast<PathLight>(k);
+      const size_t index = static_cast<size_t>(i * kPathLights + k);
+      nlohmann::json entry =
+          share_of(replicates, [index](const PathClassTally::Sums& s) { return s.joint[index]; }, "");
+      entry.erase("capability");
+      entry["capabilities"] = {path_interaction_capability(interaction), path_light_capability(light)};
+      out["joint"][std::string(path_interaction_name(interaction)) + "/" + path_light_name(light)] = entry;
+    }
   return out;
 }
 

@@ -22,6 +22,7 @@ class PathClassTally {
   struct Sums {
     std::array<double, kPathInteractions> interaction{};
     std::array<double, kPathLights> light{};
+    std::array<double, kPathInteractions * kPathLights> joint{};  // interaction * kPathLights + light
     double total = 0.0;
   };
   // One replicate of `emitted` photons: `classes[i]` is photon i's PathClass::packed, `targets[i]` the
@@ -30,7 +31,8 @@ class PathClassTally {
                      const std::vector<int32_t>& targets, uint64_t emitted);
   // {"definition", "in_view": {...}, "everywhere": {...}}; each holds "flux" (W, luminance, over the
   // photons emitted), "replicates", and per interaction and per light class its "share", "standard_error"
-  // (null with fewer than two replicates) and the "capability" a method needs for it.
+  // (null with fewer than two replicates) and the "capability" a method needs for it; "joint" the same per
+  // pair "interaction/light" (its "capabilities", both), from which a method's model share is summed.
   nlohmann::json to_json() const;
 
  private:
