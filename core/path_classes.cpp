@@ -1,42 +1,32 @@
 #include "core/path_classes.h"
 
+#include <array>
+
 namespace causticbench {
 
+namespace {
+
+// Indexed by the enums' values.
+constexpr std::array<const char*, kPathInteractions> kInteractionNames = {"one_reflection", "one_pass", "multiple"};
+constexpr std::array<const char*, kPathInteractions> kInteractionCapabilities = {"reflection", "refraction",
+                                                                                 "multiple_bounces"};
+constexpr std::array<const char*, kPathLights> kLightNames = {"directional", "point", "environment"};
+constexpr std::array<const char*, kPathLights> kLightCapabilities = {"directional_light", "point_light",
+                                                                     "environment_light"};
+
+}  // namespace
+
 const char* path_interaction_name(PathInteraction interaction) {
-  switch (interaction) {
-    case PathInteraction::one_reflection: return "one_reflection";
-    case PathInteraction::one_pass: return "one_pass";
-    case PathInteraction::multiple: return "multiple";
-  }
-  return "multiple";
+  return kInteractionNames[static_cast<size_t>(interaction)];
 }
 
 const char* path_interaction_capability(PathInteraction interaction) {
-  switch (interaction) {
-    case PathInteraction::one_reflection: return "reflection";
-    case PathInteraction::one_pass: return "refraction";
-    case PathInteraction::multiple: return "multiple_bounces";
-  }
-  return "multiple_bounces";
+  return kInteractionCapabilities[static_cast<size_t>(interaction)];
 }
 
-const char* path_light_name(PathLight light) {
-  switch (light) {
-    case PathLight::directional: return "directional";
-    case PathLight::point: return "point";
-    case PathLight::environment: return "environment";
-  }
-  return "environment";
-}
+const char* path_light_name(PathLight light) { return kLightNames[static_cast<size_t>(light)]; }
 
-const char* path_light_capability(PathLight light) {
-  switch (light) {
-    case PathLight::directional: return "directional_light";
-    case PathLight::point: return "point_light";
-    case PathLight::environment: return "environment_light";
-  }
-  return "environment_light";
-}
+const char* path_light_capability(PathLight light) { return kLightCapabilities[static_cast<size_t>(light)]; }
 
 PathLight path_light_of(LightKind kind) {
   switch (kind) {

@@ -184,13 +184,9 @@ std::vector<std::string> findings(const Report& report, bool html) {
       if (report.runs[i].variant_index != v) continue;
       const std::optional<LightAccount> account = account_for_run(report, report.runs[i]);
       if (!account) continue;
-      if (account->model >= 0.0005 && !not_modelled.count(report.runs[i].method)) {
-        std::string needs;
-        for (const auto& [capability, share] : account->unmodelled)
-          needs += fmt::format("{}{} {:.1f} %", needs.empty() ? "" : ", ", capability, 100.0 * share);
-        not_modelled[report.runs[i].method] =
-            fmt::format("{} does not model {:.1f} % of it ({})", report.runs[i].method, 100.0 * account->model, needs);
-      }
+      if (account->model >= 0.0005 && !not_modelled.count(report.runs[i].method))
+        not_modelled[report.runs[i].method] = fmt::format("{} does not model {:.1f} % of it ({})", report.runs[i].method,
+                                                          100.0 * account->model, unmodelled_text(*account));
       if (account->flagged)
         lines.push_back(fmt::format("Light not accounted for{}: {} {}.", in, name(i), text(describe_light_account(*account))));
     }

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "core/errors.h"
 #include "methods/registry.h"
 #include "reports/report_model.h"
 
@@ -65,21 +66,22 @@ std::optional<LightAccount> account_for_run(const Report& report, const Run& run
   return account_for_light(report.variants.at(run.variant_index).reference, capabilities, *energy, lost);
 }
 
+std::string unmodelled_text(const LightAccount& account) {
+  std::vector<std::string> needs;
+  for (const auto& [name, share] : account.unmodelled) needs.push_back(fmt::format("{} {:.1f} %", name, 100.0 * share));
+  return join(needs, ", ");
+}
+
 std::string describe_light_account(const LightAccount& account) {
   std::vector<std::string> parts;
-  if (account.model >= 0.0005) {
-    std::string needs;
-    for (const auto& [name, share] : account.unmodelled)
-      needs += fmt::format("{}{} {:.1f} %", needs.empty() ? "" : ", ", name, 100.0 * share);
-    parts.push_back(fmt::format("does not model {:.1f} % of this scene's caustic in view ({})", 100.0 * account.model, needs));
-  }
+  if (account.model >= 0.0005)
+    parts.push_back(fmt::format("does not model {:.1f} % of this scene's caustic in view ({})", 100.0 * account.model,
+                                unmodelled_text(account)));
   if (account.lost >= 0.0005) parts.push_back(fmt::format("loses {:.1f} % by its knobs", 100.0 * account.lost));
   if (account.flagged)
     parts.push_back(fmt::format("unexplained: {:.2f} of the light {}, not a declared limit", std::abs(account.unexplained),
                                 account.unexplained > 0.0 ? "missing" : "in excess"));
-  std::string text;
-  for (size_t i = 0; i < parts.size(); ++i) text += (i ? "; " : "") + parts[i];
-  return text + fmt::format(" (energy {:.3f}, lost {:.3f}, model {:.3f}, unexplained {:+.3f})", account.energy,
+  return join(parts, "; ") + fmt::format(" (energy {:.3f}, lost {:.3f}, model {:.3f}, unexplained {:+.3f})", account.energy,
                             account.lost, account.model, account.unexplained);
 }
 

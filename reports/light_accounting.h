@@ -43,6 +43,9 @@ struct Report;
 struct Run;
 std::optional<LightAccount> account_for_run(const Report& report, const Run& run);
 
+// "multiple_bounces 31.0 %, point_light 1.0 %": the capabilities the method lacks, with their shares.
+std::string unmodelled_text(const LightAccount& account);
+
 // "does not model 31.0 % of this scene's caustic in view (multiple_bounces 31.0 %)" and, when flagged,
 // "unexplained: 0.58 of the light missing, not a declared limit" (or "... in excess ...").
 std::string describe_light_account(const LightAccount& account);

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "core/errors.h"
+
 namespace causticbench::report_detail {
 
 namespace {
@@ -43,12 +45,6 @@ std::vector<std::string> listed(const nlohmann::json& group, bool interaction) {
   return texts;
 }
 
-std::string joined(const std::vector<std::string>& parts) {
-  std::string text;
-  for (size_t i = 0; i < parts.size(); ++i) text += (i ? ", " : "") + parts[i];
-  return text;
-}
-
 }  // namespace
 
 std::optional<std::string> scene_requirements_text(const nlohmann::json& reference_record) {
@@ -58,7 +54,7 @@ std::optional<std::string> scene_requirements_text(const nlohmann::json& referen
   const std::vector<std::string> interactions = listed(in_view.value("interaction", nlohmann::json()), true);
   const std::vector<std::string> lights = listed(in_view.value("light", nlohmann::json()), false);
   if (interactions.empty()) return std::nullopt;
-  return joined(interactions) + (lights.empty() ? "" : "; light: " + joined(lights));
+  return join(interactions, ", ") + (lights.empty() ? "" : "; light: " + join(lights, ", "));
 }
 
 }  // namespace causticbench::report_detail

@@ -123,7 +123,6 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
     for (int h = 0; h < streams; ++h) {
       photons.clear();
       classes.clear();
-      targets.assign(0, -1);
       auto trace_start = std::chrono::steady_clock::now();
       photon_tracers[h].trace(static_cast<uint64_t>(pass) * photons_per_stream, photons_per_stream, photons, stats,
                               classes);
