@@ -24,7 +24,8 @@ struct RunSpec {
   std::string key;
   size_t variant = 0;                       // index into Experiment::variants
   std::string method;
-  std::string label;
+  std::string label;                        // entry + its swept values (+ " @variant"): one run
+  std::string entry;                        // the experiment entry's label (default: the method's name)
   ParamSet params;                          // every knob, defaults filled in
   ParamSet build;                           // the build-phase subset
   ParamSet frame;                           // the frame-phase subset

@@ -226,6 +226,7 @@ void add_method_entry(const ConfigNode& entry, Experiment& experiment, RunCount&
     for (const auto& [run_knobs, swept_text] : resolved) {
       RunSpec run = run_knobs;
       run.variant = v;
+      run.entry = label;
       run.label = label + swept_text + (experiment.variants.size() > 1 ? " @" + variant.name : "");
       run.spec = {{"scene_hash", variant.scene_hash}, {"overrides", variant.overrides},
                   {"frames", experiment.frames},         {"repetitions", experiment.repetitions},

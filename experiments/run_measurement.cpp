@@ -96,6 +96,7 @@ RunRecord run_identity(const Experiment& experiment, const RunSpec& run) {
   record.key = run.key;
   record.method = run.method;
   record.label = run.label;
+  record.entry = run.entry;
   record.variant = variant.name;
   record.reference_key = variant.reference_key;
   record.git_revision = git_revision();

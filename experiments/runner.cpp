@@ -12,6 +12,7 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/progress.h"
+#include "experiments/light_account.h"
 #include "experiments/reference_frames.h"
 #include "store/result_paths.h"
 #include "store/run_folders.h"
@@ -133,6 +134,24 @@ class RunExecutor {
   void finish() { progress_.finish(fmt::format("{} runs, {} failed", done_, summary_.failed)); }
 
  private:
+  // The report's flag (experiments/light_account.h), said as the run is stored: light that neither the
+  // method's lost flux nor its declared limits account for, against its reference's path-class split.
+  void warn_of_unexplained_light(const RunSpec& run, const RunRecord& record) {
+    const std::string& key = experiment_.variants.at(run.variant).reference_key;
+    auto found = reference_records_.find(key);
+    if (found == reference_records_.end()) {
+      nlohmann::json stored;
+      try {
+        stored = nlohmann::json::parse(read_text(paths_.reference(key) + "/record.json", "a reference record"));
+      } catch (const std::exception&) {
+        stored = nullptr;  // no split to account against: the report says nothing either
+      }
+      found = reference_records_.emplace(key, std::move(stored)).first;
+    }
+    const std::optional<LightAccount> account = account_for_record(found->second, record);
+    if (account && account->flagged) fmt::print(stderr, "warning: run {} {}\n", run.label, describe_light_account(*account));
+  }
+
   void execute_group(const Group& group, std::vector<PendingRun>& held_by_others) {
     const RunSpec& first = *group.by_frame_knobs.front().front().run;
     const SceneVariant& variant = experiment_.variants.at(first.variant);
@@ -292,6 +311,7 @@ class RunExecutor {
           const std::optional<LostFluxRecord>& lost = outcome.record.lost_flux;
           if (lost && lost->worst.fraction > kLostFluxWarning)
             fmt::print(stderr, "warning: run {} {}\n", run.label, describe_lost_flux(lost->worst));
+          warn_of_unexplained_light(run, outcome.record);
         } else {
           ++summary_.failed;
           fmt::print(stderr, "run {} failed: {}\n", run.label, outcome.record.error);
@@ -316,6 +336,7 @@ class RunExecutor {
   const Experiment& experiment_;
   ResultStore& store_;
   const ResultPaths& paths_;
+  std::map<std::string, nlohmann::json> reference_records_;  // reference key -> its record.json (null: none)
   BuildCacheFolder builds_;
   ReferenceCheck& references_;
   RunSummary& summary_;

@@ -18,17 +18,17 @@ ErrorBetter error_better(const Report& report) {
   return [error](double a, double b) { return quantity_better(error, a, b); };
 }
 
-// The methods with any run in the variant (ok or not), in the report's order: a method whose runs all
-// failed shows as "no run" rather than vanishing from the view.
+// The entries with any run in the variant (ok or not), in the report's order: the views' columns (two
+// entries of one method are two). An entry whose runs all failed shows as "no run" rather than vanishing.
 std::vector<std::string> variant_methods(const Report& report, size_t variant) {
-  std::vector<std::string> methods;
-  for (const std::string& method : report.methods) {
+  std::vector<std::string> entries;
+  for (const std::string& entry : report.entries) {
     bool any = std::any_of(report.runs.begin(), report.runs.end(), [&](const Run& run) {
-      return run.method == method && run.variant_index == variant;
+      return run.entry == entry && run.variant_index == variant;
     });
-    if (any) methods.push_back(method);
+    if (any) entries.push_back(entry);
   }
-  return methods;
+  return entries;
 }
 
 std::string heading(const Report& report, size_t variant) {
@@ -37,10 +37,7 @@ std::string heading(const Report& report, size_t variant) {
 
 }  // namespace
 
-std::string knobs_of(const Run& run) {
-  std::string text = run.swept_text();
-  return text.empty() ? "its defaults" : text;
-}
+std::string knobs_of(const Run& run) { return run.changed_text(); }
 
 std::string budget_text(double ms) { return ms >= 1000.0 ? num(ms / 1000.0) + " s" : num(ms) + " ms"; }
 
@@ -55,7 +52,7 @@ void compute_views(Report& report) {
       auto error = run.metric(report.primary);
       if (run.variant_index != v || !finite(time) || !finite(error)) continue;
       views.runs.push_back(i);
-      views.points.push_back({run.method, *time, run.quantity("prepare_seconds").value_or(0.0), *error});
+      views.points.push_back({run.entry, *time, run.quantity("prepare_seconds").value_or(0.0), *error, run.method});
     }
     const std::vector<std::string> methods = variant_methods(report, v);
     views.targets = report.error_targets.empty() ? default_error_targets(views.points, better) : report.error_targets;

@@ -16,10 +16,11 @@
 namespace causticbench {
 
 struct CostPoint {
-  std::string method;
+  std::string method;  // the column it belongs to: the run's experiment entry (Run::entry)
   double frame_ms = 0.0;         // per-frame time (median)
   double prepare_seconds = 0.0;  // precomputation, paid once
   double error = 0.0;            // the compared metric; NaN: undefined (the point is left out)
+  std::string of_method;         // the method the entry runs (the study's standings are per method)
 };
 
 // `better(a, b)`: error a is strictly better than error b (quantity_better of the metric).

@@ -1,53 +1,16 @@
-// Where a run's light went (issue 52): against the reference's caustic flux in view, a run's measured
-// energy ratio, the method's own lost flux (what its knobs can recover: methods/method.h, LostFlux), its
-// model share (the reference's light in the path classes it declares it does not model: the joint
-// interaction x light shares of the reference's `path_classes`, core/path_classes.h) and what is left:
-//   unexplained = 1 - energy - min(1, lost + model), signed (an excess is unexplained too; lost and model
-//   may name the same light, so together they explain at most all of it).
-// A run whose unexplained part is beyond kUnexplainedLightTolerance is flagged. The tolerance is the
-// capability verdict's energy tolerance (experiments/capability_verdict.h, 0.15): the largest energy error
-// a method may show on a case it declares it models; the reference's own share errors are far below it
-// (hundredths of a percent at the shipped settings).
+// The report's side of where each run's light went (experiments/light_account.h holds the account and
+// its tolerance): each run of a report against its variant's reference.
 #pragma once
 
 #include <optional>
-#include <string>
-#include <utility>
-#include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "experiments/capability_verdict.h"
-#include "methods/method.h"
+#include "experiments/light_account.h"
 
 namespace causticbench::report_detail {
 
-inline constexpr double kUnexplainedLightTolerance = kCapabilityEnergyTolerance;
-
-struct LightAccount {
-  double energy = 0.0, lost = 0.0, model = 0.0, unexplained = 0.0;
-  // The capabilities the method lacks that the scene's light needs, each with the share of the reference's
-  // light in view that needs it (a path may need two), largest first.
-  std::vector<std::pair<std::string, double>> unmodelled;
-  bool flagged = false;
-};
-
-// The account, or nothing when the reference record has no joint split (computed before issue 52) or no
-// caustic flux in view.
-std::optional<LightAccount> account_for_light(const nlohmann::json& reference_record, const Capabilities& capabilities,
-                                              double energy_ratio, double lost_fraction);
-
-// The account of a report's run against its variant's reference, when it has one: the method as this build
-// registers it, the energy ratio measured, the lost flux as the mean over the frames that report one.
 struct Report;
 struct Run;
+// The account of a report's run against its variant's reference record (account_for_record).
 std::optional<LightAccount> account_for_run(const Report& report, const Run& run);
-
-// "multiple_bounces 31.0 %, point_light 1.0 %": the capabilities the method lacks, with their shares.
-std::string unmodelled_text(const LightAccount& account);
-
-// "does not model 31.0 % of this scene's caustic in view (multiple_bounces 31.0 %)" and, when flagged,
-// "unexplained: 0.58 of the light missing, not a declared limit" (or "... in excess ...").
-std::string describe_light_account(const LightAccount& account);
 
 }  // namespace causticbench::report_detail

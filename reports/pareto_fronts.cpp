@@ -64,16 +64,16 @@ std::vector<Fronts> fronts_of(const Report& report, const std::string& x, const 
       points.push_back({*first, *second});
     }
     for (size_t f : pareto_front(points, better_x, better_y)) fronts.overall.push_back(candidates[f]);
-    for (const std::string& method : report.methods) {
+    for (const std::string& entry : report.entries) {
       std::vector<size_t> mine;
       std::vector<TradeoffPoint> my_points;
       for (size_t c = 0; c < candidates.size(); ++c) {
-        if (report.runs[candidates[c]].method != method) continue;
+        if (report.runs[candidates[c]].entry != entry) continue;
         mine.push_back(candidates[c]);
         my_points.push_back(points[c]);
       }
       if (mine.empty()) continue;
-      for (size_t f : pareto_front(my_points, better_x, better_y)) fronts.per_method[method].push_back(mine[f]);
+      for (size_t f : pareto_front(my_points, better_x, better_y)) fronts.per_method[entry].push_back(mine[f]);
     }
   }
   return all;

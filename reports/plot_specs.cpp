@@ -39,19 +39,20 @@ json axis(const std::string& field, const std::string& title, bool log) {
   return encoding;
 }
 
-// Vega's tableau10 colours, given to the methods in their order, so that a method keeps its colour in
-// every plot even when a plot shows only some of the methods.
+// Vega's tableau10 colours, given to the experiment's entries (Run::entry) in their order, so that an
+// entry keeps its colour in every plot even when a plot shows only some of them. The rows' field is
+// still called "method": it holds the entry, which is the method's name unless the entry has a label.
 json method_colour(const Report& report, const std::set<std::string>& shown) {
   static const char* const palette[] = {"#4c78a8", "#f58518", "#e45756", "#72b7b2", "#54a24b",
                                         "#eeca3b", "#b279a2", "#ff9da6", "#9d755d", "#bab0ac"};
   json domain = json::array(), range = json::array();
-  for (size_t m = 0; m < report.methods.size(); ++m) {
-    if (!shown.empty() && !shown.count(report.methods[m])) continue;
-    domain.push_back(report.methods[m]);
+  for (size_t m = 0; m < report.entries.size(); ++m) {
+    if (!shown.empty() && !shown.count(report.entries[m])) continue;
+    domain.push_back(report.entries[m]);
     range.push_back(palette[m % 10]);
   }
   return {
-      {"field", "method"}, {"type", "nominal"}, {"title", "method"}, {"scale", {{"domain", domain}, {"range", range}}}};
+      {"field", "method"}, {"type", "nominal"}, {"title", "entry"}, {"scale", {{"domain", domain}, {"range", range}}}};
 }
 
 // A dashed horizontal rule at `value` with a label, as two layers.
@@ -77,23 +78,23 @@ std::vector<json> rule_layers(const std::string& field, double value, const std:
 json run_row(const Report& report, size_t i) {
   const Run& run = report.runs[i];
   json row = {{"key", run.key},
-              {"method", run.method},
+              {"method", run.entry},
               {"label", report.display(i)},
-              {"knobs", run.swept_text()},
+              {"knobs", run.changed_text()},
               {"frame_ms", run.frame_ms().value_or(NAN)},
               {"value", run.metric(report.primary).value_or(NAN)},
               {"front", report.on_front(i)}};
   if (report.multi()) {
     row["variant"] = run.variant;
-    row["series"] = run.variant + " " + run.method;
+    row["series"] = run.variant + " " + run.entry;
   }
   return row;
 }
 
 json tooltip(const Report& report) {
   json fields = json::array({{{"field", "label"}, {"title", "run"}},
-                             {{"field", "method"}},
-                             {{"field", "knobs"}, {"title", "swept"}},
+                             {{"field", "method"}, {"title", "entry"}},
+                             {{"field", "knobs"}, {"title", "knobs not at their defaults"}},
                              {{"field", "frame_ms"}, {"title", "frame ms (median)"}, {"format", ".4g"}},
                              {{"field", "value"}, {"title", report.primary}, {"format", ".4g"}}});
   if (report.multi()) fields.insert(fields.begin() + 2, json{{"field", "variant"}});

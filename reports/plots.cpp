@@ -121,7 +121,7 @@ void make_error_time_plot(Report& report) {
     row["seconds"] = seconds;
     row["error"] = *error;
     row["budget"] = knob + "=" + value_text(run.swept()[knob]);
-    row["series"] = (report.multi() ? run.variant + " " : std::string()) + run.method +
+    row["series"] = (report.multi() ? run.variant + " " : std::string()) + run.entry +
                     (others_text.empty() ? "" : " " + others_text);
     // The seed band: the 95 % interval of the mean over the seeds (its low end kept above zero for the
     // log axis: a band that reaches zero is drawn down to a hundredth of the mean).
@@ -196,12 +196,12 @@ void make_error_time_plot(Report& report) {
 }
 
 void make_sweep_plots(Report& report) {
-  // Knob name -> methods that sweep it over at least two values.
+  // Knob name -> entries that sweep it over at least two values.
   std::map<std::string, std::set<std::string>> knobs;
-  for (const std::string& method : report.methods) {
+  for (const std::string& method : report.entries) {
     std::map<std::string, std::set<std::string>> seen;
     for (size_t i : report.ok_runs()) {
-      if (report.runs[i].method != method || !report.runs[i].swept().is_object()) continue;
+      if (report.runs[i].entry != method || !report.runs[i].swept().is_object()) continue;
       for (const auto& [name, value] : report.runs[i].swept().items()) seen[name].insert(value.dump());
     }
     for (const auto& [name, values] : seen)
@@ -219,7 +219,7 @@ void make_sweep_plots(Report& report) {
     };
     for (size_t i : report.ok_runs()) {
       const Run& run = report.runs[i];
-      if (!methods.count(run.method) || !run.swept().contains(knob) || !finite(run.metric(report.primary))) continue;
+      if (!methods.count(run.entry) || !run.swept().contains(knob) || !finite(run.metric(report.primary))) continue;
       runs.push_back(i);
       const json x = value_of(run);
       if (x.is_number())
@@ -236,7 +236,7 @@ void make_sweep_plots(Report& report) {
       log_x = *low > 0.0 && *high / *low >= 20.0;
     }
     bool log_y = all_positive(values);
-    // A line holds the runs of one method whose other knobs are all equal: swept ones, and fixed ones
+    // A line holds the runs of one entry whose other knobs are all equal: swept ones, and fixed ones
     // that differ between its entries (pinhole with and without filtering), and the variant.
     std::map<std::string, std::set<std::string>> varying;  // method -> knobs other than `knob` that vary
     {
@@ -245,7 +245,7 @@ void make_sweep_plots(Report& report) {
         const json knobs = run_knobs(report.runs[i]);  // named: items() would outlive a temporary
         for (const auto& [name, value] : knobs.items()) {
           // receiver_pixels follows the variant: not a knob of its own.
-          if (name != knob && name != "receiver_pixels") seen[report.runs[i].method][name].insert(value.dump());
+          if (name != knob && name != "receiver_pixels") seen[report.runs[i].entry][name].insert(value.dump());
         }
       }
       for (const auto& [method, by_knob] : seen)
@@ -258,15 +258,15 @@ void make_sweep_plots(Report& report) {
       const Run& run = report.runs[i];
       json others = json::object();
       const json knobs = run_knobs(run);
-      for (const std::string& name : varying[run.method])
+      for (const std::string& name : varying[run.entry])
         others[name] = knobs.contains(name) ? knobs[name] : json("\u2014");
       std::string others_text = knobs_text(others);
       if (others_text.empty()) others_text = "\u2014";
-      others_seen.insert(run.method + "|" + others_text);
+      others_seen.insert(run.entry + "|" + others_text);
       json row = run_row(report, i);
       row["x"] = numeric ? value_of(run) : json(value_text(value_of(run)));
       row["others"] = others_text;
-      row["series"] = run.method + " " + others_text;
+      row["series"] = run.entry + " " + others_text;
       rows.push_back(row);
     }
     json x = numeric ? axis("x", knob + (log_x ? " (log)" : ""), log_x)

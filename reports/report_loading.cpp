@@ -151,6 +151,8 @@ void load_report(Report& report, const std::string& folder_text) {
     run.ok = run.record.ok();
     run.method = run.record.method.empty() ? "?" : run.record.method;
     run.label = run.record.label.empty() ? run.method + " " + key.substr(0, 8) : run.record.label;
+    run.entry = run.record.entry.empty() ? run.method : run.record.entry;
+    run.changed = knobs_changed_from_defaults(run.record);
     run.error = run.record.error;
     if (!run.ok && run.error.empty()) run.error = "(no error message recorded)";
     run.empty_reference = run.record.empty_reference_frames.has_value();
@@ -177,6 +179,8 @@ void load_report(Report& report, const std::string& folder_text) {
   for (const Run& run : report.runs) {
     if (std::find(report.methods.begin(), report.methods.end(), run.method) == report.methods.end())
       report.methods.push_back(run.method);
+    if (std::find(report.entries.begin(), report.entries.end(), run.entry) == report.entries.end())
+      report.entries.push_back(run.entry);
   }
 
   // Metric columns: the experiment's, then any other metric a run stored (temporal_flicker, ...),

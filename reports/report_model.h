@@ -50,6 +50,12 @@ struct Run {
   RunRecord record;  // as read (upgraded to the current version); a damaged one: failed, with why
   bool ok = false;   // an ok record of the experiment's current reference: compared with the others
   std::string status, method, label, error;  // status: ok, failed, or stale (ok, but see `stale`)
+  // The experiment entry it came from (record "entry"; its label, the method's name by default): the
+  // column, front, legend and summary line it belongs to, so that two entries of one method are two.
+  std::string entry;
+  // Its knobs that differ from its method's declared defaults (report_loading.cpp; the swept ones when
+  // this build does not register the method): what names it beside its entry.
+  json changed = json::object();
   // Measured against another reference than the experiment's current one (its settings changed since):
   // listed with the runs that are not compared, never mixed into fronts, claims or views.
   bool stale = false;
@@ -93,6 +99,11 @@ struct Run {
   const json& swept() const { return record.swept; }
   std::string swept_text() const { return knobs_text(swept()); }
   std::optional<double> frame_ms() const { return record.quantity("frame_ms"); }
+  // Its changed knobs as a person reads them ("its defaults" when none).
+  std::string changed_text() const;
+  // Its entry and changed knobs, "lpi grid vector (grid_resolution=128, orientation=vector)": how every
+  // table, summary line and plot that picks one run names it.
+  std::string name() const;
 };
 
 // One scene variant of the experiment (experiment.json "variants"; a plain experiment has one,
@@ -115,7 +126,8 @@ struct Variant {
   }
 };
 
-// Pareto fronts (indices into Report::runs) within one variant: over all methods, and per method.
+// Pareto fronts (indices into Report::runs) within one variant: over all runs, and per experiment entry
+// (Run::entry: two entries of one method have a front each; results.json keeps the name "per_method").
 struct Fronts {
   std::vector<size_t> overall;
   std::map<std::string, std::vector<size_t>> per_method;
@@ -204,6 +216,7 @@ struct Report {
   int seeds = 1;                     // experiment.json "seeds": intervals are shown when above 1
   std::vector<std::string> missing;  // run keys without a record.json
   std::vector<std::string> methods;  // in order of first appearance
+  std::vector<std::string> entries;  // the runs' entries (Run::entry), in order of first appearance
   std::vector<Variant> variants;     // never empty; experiment.json's order, then any only runs name
   std::vector<std::string> notes;    // warnings shown at the top of the report
 
@@ -247,7 +260,7 @@ struct Report {
   bool on_front(size_t run) const {
     if (fronts.empty()) return false;
     const auto& per_method = fronts[runs[run].variant_index].per_method;
-    auto it = per_method.find(runs[run].method);
+    auto it = per_method.find(runs[run].entry);
     return it != per_method.end() && std::find(it->second.begin(), it->second.end(), run) != it->second.end();
   }
   bool on_overall_front(size_t run) const {
@@ -261,12 +274,11 @@ struct Report {
     for (const Fronts& f : fronts) all.insert(all.end(), f.overall.begin(), f.overall.end());
     return all;
   }
-  // The run's label as a person reads it: with several variants, its variant is added unless the label
-  // names it already (the runner appends " @<variant>").
+  // The run as a person reads it: its entry and the knobs that differ from its method's defaults
+  // (Run::name), and its variant when the experiment has several.
   std::string display(size_t run) const {
     const Run& r = runs[run];
-    if (!multi() || r.label.find("@" + r.variant) != std::string::npos) return r.label;
-    return r.label + " @" + r.variant;
+    return multi() ? r.name() + " @" + r.variant : r.name();
   }
 };
 
@@ -280,5 +292,8 @@ inline bool separated(const Run& a, const Run& b, const std::string& metric) {
 // The run's resolved knobs as record_matches_filter sees them, with the variant the report assigned
 // (an older record names none).
 json run_knobs(const Run& run);
+// The record's knobs whose values differ from its method's declared defaults (every set knob of a
+// family); the swept knobs when this build does not register the method.
+json knobs_changed_from_defaults(const RunRecord& record);
 
 }  // namespace causticbench::report_detail

@@ -25,8 +25,9 @@ json point_json(const StudySummary& summary, const SummaryScene& scene, size_t p
   const VariantViews& views = summary.views(scene);
   const CostPoint& p = views.points[point];
   const Run& run = report.runs[views.runs[point]];
-  return {{"method", p.method},   {"run", run.key},       {"label", report.display(views.runs[point])},
-          {"knobs", run.swept()}, {"error", p.error},     {"frame_ms", p.frame_ms},
+  return {{"method", p.of_method}, {"entry", p.method},  {"run", run.key},
+          {"label", report.display(views.runs[point])}, {"name", run.name()},
+          {"knobs", run.changed}, {"swept", run.swept()}, {"error", p.error}, {"frame_ms", p.frame_ms},
           {"prepare_seconds", p.prepare_seconds}};
 }
 

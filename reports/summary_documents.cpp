@@ -76,7 +76,9 @@ Table standings_table(const StudySummary& summary) {
   Table table;
   table.header = {"method", "best at", "fails"};
   table.header_notes = {"", "scene @ frame budget where its run is the best of all methods",
-                        "failed runs (refused: every run failed), or the worst best-error of a scene's methods"};
+                        "failed runs (refused: every run failed), the worst best-error of a scene's methods, the scene's light "
+                        "it declares it does not model, or runs whose light its declarations and lost flux leave "
+                        "unexplained"};
   for (const MethodStanding& standing : summary.standings) {
     std::vector<std::string> wins, fails;
     for (size_t w : standing.wins) {

@@ -13,6 +13,8 @@
 #include "core/errors.h"
 #include "reports/summary_model.h"
 
+#include "reports/light_accounting.h"
+
 namespace causticbench::report_detail {
 
 namespace {
@@ -71,6 +73,33 @@ std::optional<size_t> fastest_point(const VariantViews& views) {
   return fastest;
 }
 
+// Where the method's light went in the scene (experiments/light_account.h): the share of the scene's light
+// it declares it does not model, when beyond the tolerance (said once), and each run whose account is
+// flagged: a bad score its declarations and lost flux do not explain.
+void add_account_failures(const Report& report, const SummaryScene& scene, size_t scene_index, MethodStanding& standing) {
+  std::optional<LightAccount> declared;
+  std::vector<std::string> unexplained;
+  size_t accounted = 0;
+  for (size_t i : report.ok_runs()) {
+    const Run& run = report.runs[i];
+    if (run.method != standing.method || run.variant_index != scene.variant) continue;
+    const std::optional<LightAccount> account = account_for_run(report, run);
+    if (!account) continue;
+    ++accounted;
+    if (!declared) declared = account;  // the model share is the method's and the scene's, not the run's
+    if (account->flagged)
+      unexplained.push_back(fmt::format("{}: {:.2f} {}", run.name(), std::abs(account->unexplained),
+                                        account->unexplained > 0.0 ? "missing" : "in excess"));
+  }
+  if (declared && declared->model > kUnexplainedLightTolerance)
+    standing.failures.push_back({scene_index, "not modelled",
+                                 fmt::format("declares it does not model {:.1f} % of the scene's caustic in view ({})",
+                                             100.0 * declared->model, unmodelled_text(*declared))});
+  if (!unexplained.empty())
+    standing.failures.push_back({scene_index, "light unexplained",
+                                 fmt::format("{} of {} runs: {}", unexplained.size(), accounted, join(unexplained, "; "))});
+}
+
 // Failed runs of the method in the scene, and whether its best error is the worst of the methods there.
 void add_failures(const StudySummary& summary, size_t scene_index, MethodStanding& standing) {
   const SummaryScene& scene = summary.scenes[scene_index];
@@ -89,14 +118,15 @@ void add_failures(const StudySummary& summary, size_t scene_index, MethodStandin
     standing.failures.push_back({scene_index, failed == runs ? "refused" : "failed",
                                  fmt::format("{} of {} runs failed: {}", failed, runs, join(errors, "; "))});
   }
+  add_account_failures(report, scene, scene_index, standing);
   // Worst error: the method's best is worse than every other measured method's best.
   const VariantViews& views = summary.views(scene);
-  std::map<std::string, size_t> best_of;  // method -> its best point
+  std::map<std::string, size_t> best_of;  // method -> its best point (over its entries)
   for (size_t p = 0; p < views.points.size(); ++p) {
     const CostPoint& point = views.points[p];
-    auto found = best_of.find(point.method);
+    auto found = best_of.find(point.of_method);
     if (found == best_of.end() || quantity_better(report.primary, point.error, views.points[found->second].error))
-      best_of[point.method] = p;
+      best_of[point.of_method] = p;
   }
   auto own = best_of.find(standing.method);
   if (best_of.size() < 2 || own == best_of.end()) return;
@@ -112,8 +142,8 @@ void add_failures(const StudySummary& summary, size_t scene_index, MethodStandin
   standing.failures.push_back(
       {scene_index, "worst error",
        fmt::format("its best {} {} ({}) is the worst of {} methods; best: {} {} {}", report.primary, num(mine),
-                   knobs_of(report.runs[views.runs[own->second]]), best_of.size(), other.method, report.primary,
-                   num(other.error))});
+                   report.runs[views.runs[own->second]].name(), best_of.size(),
+                   report.runs[views.runs[*best_other]].name(), report.primary, num(other.error))});
 }
 
 MethodCost method_cost(const StudySummary& summary, size_t scene_index, const std::string& method) {
@@ -196,7 +226,7 @@ StudySummary summarize_study(const std::vector<std::string>& folders) {
     for (size_t w = 0; w < summary.winners.size(); ++w) {
       const BudgetWinner& winner = summary.winners[w];
       if (winner.point && winner.beats_black &&
-          summary.views(summary.scenes[winner.scene]).points[*winner.point].method == method)
+          summary.views(summary.scenes[winner.scene]).points[*winner.point].of_method == method)
         standing.wins.push_back(w);
     }
     for (size_t s = 0; s < summary.scenes.size(); ++s) {

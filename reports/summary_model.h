@@ -44,10 +44,14 @@ inline constexpr double kBaselineMargin = 0.1;
 bool beats_black_by_margin(const std::string& metric, double value, double black);
 
 // Where a method fails in one scene: failed runs (a scene it refuses fails every run before any work),
-// or the worst best-error of the methods measured there.
+// the worst best-error of the methods measured there, or its light account (experiments/light_account.h):
+// light it declares it does not model, or light that neither that nor its lost flux explains.
 struct MethodFailure {
   size_t scene = 0;
-  std::string kind;   // "refused" (every run failed), "failed" (some runs failed), "worst error"
+  // "refused" (every run failed), "failed" (some runs failed), "worst error", "not modelled" (the scene's
+  // light in classes it declares it lacks, beyond kUnexplainedLightTolerance), "light unexplained" (a run
+  // flagged by its account)
+  std::string kind;
   std::string text;   // the numbers or the error, plain text
 };
 

@@ -62,8 +62,9 @@ Cell ours_cell(const Run* run, const std::string& column, const std::optional<do
 
 Table results_table(const Report& report) {
   Table table;
-  table.header = {"method", "label", "swept knobs"};
-  table.header_notes = {"", "", ""};
+  table.header = {"method", "label", "knobs"};
+  table.header_notes = {"", "the entry's label and the values its sweep set",
+                        "every knob whose value differs from the method's declared default, fixed or swept"};
   if (report.multi()) {
     table.header.insert(table.header.end(), {"variant", "receiver pixels"});
     table.header_notes.insert(table.header_notes.end(),
@@ -136,7 +137,7 @@ Table results_table(const Report& report) {
     if (black_is_as_good) label += " (no better than a black image)";
     row.push_back({run.method});
     row.push_back({label});
-    row.push_back({run.swept_text()});
+    row.push_back({run.changed_text()});
     if (report.multi()) {
       row.push_back({run.variant});
       const std::optional<int64_t>& pixels = run.record.receiver_pixels;
@@ -192,13 +193,13 @@ Table results_table(const Report& report) {
 
 Table failed_table(const Report& report) {
   Table table;
-  table.header = {"method", "label", "swept knobs", "status", "error"};
+  table.header = {"method", "label", "knobs", "status", "error"};
   if (report.multi()) table.header.insert(table.header.begin() + 3, "variant");
   table.header_notes.assign(table.header.size(), "");
   for (const Run& run : report.runs) {
     if (run.ok) continue;
     std::vector<Cell> row = {
-        {run.method}, {run.label}, {run.swept_text()}, {run.status}, {run.error, false, false, true}};
+        {run.method}, {run.label}, {run.changed_text()}, {run.status}, {run.error, false, false, true}};
     if (report.multi()) row.insert(row.begin() + 3, Cell{run.variant});
     table.rows.push_back(row);
   }

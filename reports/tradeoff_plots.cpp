@@ -93,7 +93,7 @@ void add_front_rows(const Report& report, const std::vector<Fronts>& fronts, con
 
 bool on_method_front(const std::vector<Fronts>& fronts, const Run& run, size_t i) {
   const auto& per_method = fronts.at(run.variant_index).per_method;
-  auto found = per_method.find(run.method);
+  auto found = per_method.find(run.entry);
   return found != per_method.end() && std::count(found->second.begin(), found->second.end(), i);
 }
 
@@ -183,7 +183,7 @@ void make_total_cost_plot(Report& report) {
     const std::string panel = fmt::format("N = {} frames", count_text(frames));
     // Each method's front on (total cost, error) within each variant, in this panel.
     std::map<std::pair<size_t, std::string>, std::vector<size_t>> groups;
-    for (size_t i : runs) groups[{report.runs[i].variant_index, report.runs[i].method}].push_back(i);
+    for (size_t i : runs) groups[{report.runs[i].variant_index, report.runs[i].entry}].push_back(i);
     for (const auto& [group, members] : groups) {
       std::vector<TradeoffPoint> plane;
       for (size_t i : members) plane.push_back({total_seconds(report.runs[i], frames), *report.runs[i].metric(report.primary)});

@@ -235,6 +235,25 @@ json upgrade_run_record(json stored) {
   return stored;
 }
 
+std::string entry_of_label(const std::string& label, const std::string& variant, const json& swept) {
+  std::string entry = label;
+  const std::string at = " @" + variant;
+  if (!variant.empty() && entry.size() > at.size() && entry.ends_with(at)) entry.resize(entry.size() - at.size());
+  // The swept words were appended in the entry's order, not the record's: strip any of them from the end.
+  bool stripped = swept.is_object();
+  while (stripped) {
+    stripped = false;
+    for (const auto& [name, value] : swept.items()) {
+      const std::string word = " " + name + "=" + (value.is_string() ? value.get<std::string>() : value.dump());
+      if (entry.size() > word.size() && entry.ends_with(word)) {
+        entry.resize(entry.size() - word.size());
+        stripped = true;
+      }
+    }
+  }
+  return entry;
+}
+
 RunRecord RunRecord::from_json(const json& original) {
   const json stored = upgrade_run_record(original);
   FieldReader in(stored, "");
@@ -255,6 +274,7 @@ RunRecord RunRecord::from_json(const json& original) {
   record.frame = in.object_or_empty("frame");
   record.render = in.object_or_empty("render");
   record.swept = in.object_or_empty("swept");
+  record.entry = in.string_or("entry", entry_of_label(record.label, record.variant, record.swept));
   record.spec = in.any_or_null("spec");
   if (in.has("receiver_pixels")) record.receiver_pixels = in.integer("receiver_pixels");
   // A failed run has only its identity and error, unless it failed after measuring (non-finite pixels).
@@ -323,6 +343,7 @@ json RunRecord::to_json() const {
               {"error", error},
               {"method", method},
               {"label", label},
+              {"entry", entry},
               {"variant", variant},
               {"reference_key", reference_key},
               {"git_revision", git_revision},

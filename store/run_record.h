@@ -88,6 +88,9 @@ struct SeedsRecord {
 struct RunRecord {
   int record_version = kRunRecordVersion;
   std::string key, status = "ok", error, method, label;
+  // The experiment entry the run came from (its `label`, the method's name by default): what the report's
+  // columns, legends and summary name. A record written before the field: entry_of_label below.
+  std::string entry;
   std::string variant, reference_key;  // empty in a version-1 record written before scene variants
   std::string git_revision;            // of the causticbench that measured it; empty when unknown (version 1)
   // The resolved reference knobs the run's reference was computed with (experiment.json "reference" at
@@ -143,6 +146,10 @@ struct RunRecord {
 // gets record_version 2, an empty git_revision and null reference_settings: "unknown"). The current
 // version is returned as it is; a newer one throws RecordError.
 nlohmann::json upgrade_run_record(nlohmann::json stored);
+
+// The entry label of a run label ("lpi grid vector grid_resolution=64 @small" -> "lpi grid vector"): the
+// label without its variant suffix and the " knob=value" words of the knobs the sweep set.
+std::string entry_of_label(const std::string& label, const std::string& variant, const nlohmann::json& swept);
 
 // How many seeds a stored ok record was measured with (its "seeds" runs, else 1), read without parsing the
 // whole record; a failed record counts as measured with any number (it is not run again for its seeds).

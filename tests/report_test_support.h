@@ -185,9 +185,9 @@ class ReportTest : public ::testing::Test {
          {{"photons", 100000}, {"k", 10}},
          0.05,
          14.0},
-        {"pin_100", "pinhole", {{"resolution", 64}}, {{"samples", 100}}, {{"samples", 100}}, 0.03, 8.0},
-        {"pin_400", "pinhole", {{"resolution", 64}}, {{"samples", 400}}, {{"samples", 400}}, 0.04, 30.0},
-        {"pin_1600", "pinhole", {{"resolution", 64}}, {{"samples", 1600}}, {{"samples", 1600}}, 0.0, 0.0, true},
+        {"pin_100", "pinhole", {{"filtering", "none"}}, {{"samples", 100}}, {{"samples", 100}}, 0.03, 8.0},
+        {"pin_400", "pinhole", {{"filtering", "none"}}, {{"samples", 400}}, {{"samples", 400}}, 0.04, 30.0},
+        {"pin_1600", "pinhole", {{"filtering", "none"}}, {{"samples", 1600}}, {{"samples", 1600}}, 0.0, 0.0, true},
     };
     json keys = json::array();
     for (const FakeRun& run : runs) keys.push_back(run.key);

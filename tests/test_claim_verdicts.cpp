@@ -87,7 +87,8 @@ TEST_F(ClaimVerdictTest, BetterAndSameAreConfirmedPartlyRefutedOrNotMeasured) {
   EXPECT_EQ(relative["deciding_than"]["key"], "pin_400");
   EXPECT_EQ(claims[3]["evidence"],
             "1 run matching samples=100 against 1 run matching samples=400: 1 of 1 pair is within 0.3 relative; "
-            "nearest its edge: pinhole samples=100 (relmse 0.03) against pinhole samples=400 (relmse 0.04), "
+            "nearest its edge: pinhole (filtering=none, samples=100) (relmse 0.03) against pinhole (filtering=none, "
+            "samples=400) (relmse 0.04), "
             "difference relmse 0.01 (0.25 relative).");
   // The pair farthest beyond the tolerance decides: 0.03 against 0.05.
   const json& some = claims[5]["details"];

@@ -116,22 +116,22 @@ TEST_F(ReportTest, MarkdownHasTablesPaperAndFailures) {
   EXPECT_NE(md.find("cpu.model:"), std::string::npos);
   // One row per finished run, with method, label and swept knobs; best relmse (0.005) in bold.
   // (the diamond marks runs on the Pareto front over all methods)
-  EXPECT_NE(md.find("| photon_map | photon_map k=50 photons=100000 \u25c6 | k=50, photons=100000 | 0.01235 |"),
+  EXPECT_NE(md.find("| photon_map | photon_map k=50 photons=100000 \u25c6 | max_radius=0.1, photons=100000 | 0.01235 |"),
             std::string::npos)
       << md;
-  EXPECT_NE(md.find("| photon_map | photon_map k=10 photons=100000 | k=10, photons=100000 | 0.05 |"),
+  EXPECT_NE(md.find("| photon_map | photon_map k=10 photons=100000 | k=10, max_radius=0.1, photons=100000 | 0.05 |"),
             std::string::npos);
   EXPECT_NE(md.find("| **0.005** |"), std::string::npos);
-  EXPECT_NE(md.find("| pinhole | pinhole samples=400 | samples=400 | 0.04 |"), std::string::npos);
+  EXPECT_NE(md.find("| pinhole | pinhole samples=400 | filtering=none, samples=400 | 0.04 |"), std::string::npos);
   // The failed run is listed with its error, never in the results table.
   EXPECT_NE(md.find("## Failed runs"), std::string::npos);
-  EXPECT_NE(md.find("| pinhole | pinhole samples=1600 | samples=1600 | failed | " + std::string(kFailure) + " |"),
+  EXPECT_NE(md.find("| pinhole | pinhole samples=1600 | filtering=none, samples=1600 | failed | " + std::string(kFailure) + " |"),
             std::string::npos);
   EXPECT_EQ(md.find("samples=1600 | 0."), std::string::npos);
   EXPECT_NE(md.find("never_ran"), std::string::npos);
   // Paper block: the paper's 135 ms beside our render median (8 * 0.75 = 6 ms), the note, the ratio.
   EXPECT_NE(md.find("## Paper: Wand 2003, Fig. 4"), std::string::npos);
-  EXPECT_NE(md.find("| pinhole | samples=100 | pinhole samples=100 | 135 | 6 | \u00d70.0444 | Radeon 9700 |"),
+  EXPECT_NE(md.find("| pinhole | samples=100 | pinhole (filtering=none, samples=100) | 135 | 6 | \u00d70.0444 | Radeon 9700 |"),
             std::string::npos)
       << md;
   EXPECT_NE(md.find("| pinhole | samples=6400 | not run | 900 | not run |"), std::string::npos);
@@ -222,16 +222,19 @@ TEST_F(ReportTest, ClaimsAreCheckedOnTheOkRuns) {
   EXPECT_NE(md.find("| claim | verdict | evidence |"), std::string::npos);
   for (const std::string& row : {
            std::string("| More photons at k=50 give the least error | confirmed | best of 4 runs matching "
-                       "`method=photon_map`: photon_map k=50 photons=1000000 (relmse 0.005), which matches `k=50`; "
-                       "best run not matching it: photon_map k=10 photons=100000 (relmse 0.05). relmse: lower is "
+                       "`method=photon_map`: photon_map (max_radius=0.1, photons=1000000) (relmse 0.005), which matches "
+                       "`k=50`; best run not matching it: photon_map (k=10, max_radius=0.1, photons=100000) (relmse "
+                       "0.05). relmse: lower is "
                        "better. |"),
            std::string("| 400 samples give the sharpest image | refuted | best of 2 runs matching "
-                       "`method=pinhole` (1 failed run not counted): pinhole samples=100 (psnr 35.23), which does "
-                       "not match `samples=400`; best run matching it: pinhole samples=400 (psnr 33.98). psnr: "
+                       "`method=pinhole` (1 failed run not counted): pinhole (filtering=none, samples=100) (psnr 35.23), "
+                       "which does not match `samples=400`; best run matching it: pinhole (filtering=none, "
+                       "samples=400) (psnr 33.98). psnr: "
                        "higher is better. |"),
            std::string("| 10^4 photons are faster than any pinhole run | confirmed | worst of 1 run matching "
-                       "`method=photon_map,photons=10000`: photon_map k=50 photons=10000 (frame_ms 5); best of 2 "
-                       "runs matching `method=pinhole` (1 failed run not counted): pinhole samples=100 (frame_ms "
+                       "`method=photon_map,photons=10000`: photon_map (max_radius=0.1, photons=10000) (frame_ms 5); best "
+                       "of 2 runs matching `method=pinhole` (1 failed run not counted): pinhole (filtering=none, "
+                       "samples=100) (frame_ms "
                        "8). Better in 2 of 2 pairs. frame_ms: lower is better. |"),
            std::string("| 1600 samples beat photon mapping | not measured | 0 runs with a relmse value match "
                        "`samples=1600` (1 failed run not counted), 4 match `method=photon_map`: the check needs at "
@@ -359,18 +362,18 @@ TEST_F(ReportTest, UndefinedValuesAreEmptyCellsWithTheirReason) {
 
   ReportSummary summary = write_report(folder.string());
   std::string md = read_text(summary.markdown);
-  EXPECT_NE(md.find("| photon_map | photon_map k=50 photons=1000000 | k=50, photons=1000000 | \u2014 [1] |"),
+  EXPECT_NE(md.find("| photon_map | photon_map k=50 photons=1000000 | max_radius=0.1, photons=1000000 | \u2014 [1] |"),
             std::string::npos)
       << md;
   EXPECT_NE(md.find("- [1] undefined: " + relmse_reason + "\n"), std::string::npos) << md;
-  EXPECT_NE(md.find("| pinhole | pinhole samples=400 (empty reference) | samples=400 | \u2014 [2] | \u2014 [2] | "
+  EXPECT_NE(md.find("| pinhole | pinhole samples=400 (empty reference) | filtering=none, samples=400 | \u2014 [2] | \u2014 [2] | "
                     "\u2014 [2] | \u2014 [2] |"),
             std::string::npos)
       << md;
   EXPECT_NE(md.find("- [2] undefined: " + empty_reason + "\n"), std::string::npos) << md;
   EXPECT_EQ(md.find("| **0.005** |"), std::string::npos) << "an undefined value is never best";
   EXPECT_NE(md.find("| **0.01235** |"), std::string::npos) << "the best defined value is";
-  EXPECT_NE(md.find("Best relmse: **photon_map k=50 photons=100000** (relmse 0.01235, 12 ms)."), std::string::npos);
+  EXPECT_NE(md.find("Best relmse: **photon_map (max_radius=0.1, photons=100000)** (relmse 0.01235, 12 ms)."), std::string::npos);
   EXPECT_NE(md.find("1 run against an empty reference"), std::string::npos) << md;
   EXPECT_NE(md.find("| relmse undefined \u00b7 40 ms |"), std::string::npos) << "the image caption says so";
   EXPECT_NE(md.find("| empty reference \u00b7 30 ms |"), std::string::npos);

@@ -67,7 +67,7 @@ class VariantReportTest : public ::testing::Test {
       runs.push_back({std::string("pin_") + suffix[v],
                       "pinhole",
                       v,
-                      {{"resolution", 64}},
+                      {{"filtering", "none"}},
                       {{"samples", 1000}},
                       {{"samples", 1000}},
                       pin_relmse[v],
@@ -84,7 +84,7 @@ class VariantReportTest : public ::testing::Test {
                       0.1});
     }
     runs.push_back(
-        {"pin100_96", "pinhole", 0, {{"resolution", 64}}, {{"samples", 100}}, {{"samples", 100}}, 0.5, 8.0, 0.3});
+        {"pin100_96", "pinhole", 0, {{"filtering", "none"}}, {{"samples", 100}}, {{"samples", 100}}, 0.5, 8.0, 0.3});
 
     json keys = json::array(), listed = json::array();
     for (const VariantFakeRun& run : runs) keys.push_back(run.key);
@@ -284,12 +284,12 @@ TEST_F(VariantReportTest, ParetoFrontsAreWithinEachVariant) {
 
   // The table marks the fronts and the fastest frame within each variant.
   std::string md = read_text(summary.markdown);
-  EXPECT_NE(md.find("| pinhole | pinhole samples=1000 @192x144 \u25c6 | samples=1000 | 192x144 | 12000 | 0.03 | \u2014 | "
+  EXPECT_NE(md.find("| pinhole | pinhole samples=1000 @192x144 \u25c6 | filtering=none | 192x144 | 12000 | 0.03 | \u2014 | "
                     "**26** |"),
             std::string::npos)
       << md;
   EXPECT_NE(md.find("Pareto front over all methods (variant 192x144) (fastest first, \u25c6 in the table): "
-                    "**pinhole samples=1000 @192x144** (relmse 0.03, 26 ms) \u2192 **photon_map photons=100000 "
+                    "**pinhole (filtering=none) @192x144** (relmse 0.03, 26 ms) \u2192 **photon_map (photons=100000) "
                     "@192x144** (relmse 0.02, 41 ms)."),
             std::string::npos)
       << md;
@@ -350,7 +350,7 @@ TEST_F(VariantReportTest, CsvAndTablesHaveTheVariant) {
     EXPECT_EQ(cells[pixels], std::to_string(variants[run->variant].receiver_pixels));
   }
   std::string md = read_text(summary.markdown);
-  EXPECT_NE(md.find("| method | label | swept knobs | variant | receiver pixels | relmse \u2193 |"), std::string::npos)
+  EXPECT_NE(md.find("| method | label | knobs | variant | receiver pixels | relmse \u2193 |"), std::string::npos)
       << md;
   EXPECT_NE(md.find("| photon_map | photon_map photons=100000 @96x72 | photons=100000 | 96x72 | 3000 | 0.02 |"),
             std::string::npos)

@@ -32,6 +32,7 @@ RunRecord full_record() {
   record.key = "abc";
   record.method = "pinhole";
   record.label = "pinhole samples=100";
+  record.entry = "pinhole";
   record.variant = "default";
   record.reference_key = "ref123";
   record.git_revision = "0123456789ab";
@@ -115,6 +116,13 @@ TEST(RunRecord, WritesAndReadsEveryField) {
   const json failed_json = failed.to_json();
   EXPECT_FALSE(failed_json.contains("metrics"));
   EXPECT_EQ(RunRecord::from_json(failed_json).to_json(), failed_json);
+  // A record written before "entry": its label less the variant and the swept values, in any order.
+  json older = full_record().to_json();
+  older.erase("entry");
+  older["label"] = "lpi grid vector grid_resolution=64 light_subdivision=2 @small";
+  older["variant"] = "small";
+  older["swept"] = {{"light_subdivision", "2"}, {"grid_resolution", "64"}};
+  EXPECT_EQ(RunRecord::from_json(older).entry, "lpi grid vector");
 }
 
 TEST(RunRecord, UpgradesVersionOneAndRefusesNewerVersions) {
@@ -255,7 +263,7 @@ TEST_F(ReportTest, RunsOfAnOlderReferenceAreStaleNotCompared) {
   EXPECT_NE(md.find("1 stale"), std::string::npos) << md;
   EXPECT_NE(md.find("photons_per_pass 1000000 \u2192 2000000"), std::string::npos) << md;
   EXPECT_NE(md.find("Failed and stale runs"), std::string::npos);
-  EXPECT_NE(md.find("Best relmse: **photon_map k=50 photons=100000**"), std::string::npos)
+  EXPECT_NE(md.find("Best relmse: **photon_map (max_radius=0.1, photons=100000)**"), std::string::npos)
       << "the stale run's 0.005 is not the best\n" << md;
   json results = json::parse(read_text(summary.json));
   for (const json& key : results["pareto_front"]["overall"]) EXPECT_NE(key, "pm_1e6");
@@ -309,32 +317,32 @@ TEST(LightAccounting, UnexplainedIsWhatNeitherTheLostFluxNorTheDeclaredLimitsAcc
                           {"multiple/point", share(0.01, "multiple_bounces", "point_light")}}}}}}}};
   Capabilities refracting;
   refracting.refraction = refracting.directional_light = refracting.point_light = true;
-  std::optional<report_detail::LightAccount> account = report_detail::account_for_light(reference, refracting, 0.305, 0.045);
+  std::optional<LightAccount> account = account_for_light(reference, refracting, 0.305, 0.045);
   ASSERT_TRUE(account);
   EXPECT_NEAR(account->model, 0.31, 1e-12);
   EXPECT_NEAR(account->unexplained, 0.34, 1e-12);
   EXPECT_TRUE(account->flagged);
-  const std::string text = report_detail::describe_light_account(*account);
+  const std::string text = describe_light_account(*account);
   EXPECT_NE(text.find("does not model 31.0 % of this scene's caustic in view (multiple_bounces 31.0 %)"), std::string::npos) << text;
   EXPECT_NE(text.find("unexplained: 0.34 of the light missing, not a declared limit"), std::string::npos) << text;
-  EXPECT_FALSE(report_detail::account_for_light(reference, refracting, 0.69, 0.0)->flagged);
+  EXPECT_FALSE(account_for_light(reference, refracting, 0.69, 0.0)->flagged);
   // Without point lights too, the multiple/point light is needed by both capabilities and counted once.
   refracting.point_light = false;
-  account = report_detail::account_for_light(reference, refracting, 0.69, 0.0);
+  account = account_for_light(reference, refracting, 0.69, 0.0);
   EXPECT_NEAR(account->model, 0.31, 1e-12);
   ASSERT_EQ(account->unmodelled.size(), 2u);
   EXPECT_EQ(account->unmodelled[0].first, "multiple_bounces");
   EXPECT_NEAR(account->unmodelled[1].second, 0.01, 1e-12);
   Capabilities everything;
   everything.refraction = everything.multiple_bounces = everything.directional_light = everything.point_light = true;
-  account = report_detail::account_for_light(reference, everything, 1.47, 0.0);
+  account = account_for_light(reference, everything, 1.47, 0.0);
   EXPECT_NEAR(account->unexplained, -0.47, 1e-12);
   EXPECT_TRUE(account->flagged);
-  EXPECT_NE(report_detail::describe_light_account(*account).find("0.47 of the light in excess"), std::string::npos);
+  EXPECT_NE(describe_light_account(*account).find("0.47 of the light in excess"), std::string::npos);
   // Lost flux and the declared limits naming the same light explain at most all of it.
-  EXPECT_FALSE(report_detail::account_for_light(reference, refracting, 0.0, 1.0)->flagged);
+  EXPECT_FALSE(account_for_light(reference, refracting, 0.0, 1.0)->flagged);
   reference["path_classes"]["in_view"].erase("joint");
-  EXPECT_FALSE(report_detail::account_for_light(reference, everything, 1.0, 0.0));
+  EXPECT_FALSE(account_for_light(reference, everything, 1.0, 0.0));
 }
 
 TEST_F(ReportTest, TradeoffsOnAnyAxesAndTheViews) {
@@ -350,14 +358,75 @@ TEST_F(ReportTest, TradeoffsOnAnyAxesAndTheViews) {
   EXPECT_NE(html.find("&#39;frame_msec&#39; is not a quantity"), std::string::npos) << html;
   EXPECT_NE(html.find("did you mean &#39;frame_ms&#39;"), std::string::npos);
   // photon_map: (5 ms, 0.1) (12, 0.0123) (40, 0.005) (14, 0.05); pinhole: (8, 0.03) (30, 0.04).
-  EXPECT_NE(md.find("Within 10 ms a frame: pinhole relmse 0.03 (samples=100); photon_map relmse 0.1"),
+  EXPECT_NE(md.find("Within 10 ms a frame: pinhole relmse 0.03 (filtering=none, samples=100); photon_map relmse 0.1"),
             std::string::npos)
       << md;
-  EXPECT_NE(md.find("Within 16.7 ms a frame: photon_map relmse 0.01235 (k=50, photons=100000); pinhole relmse 0.03"),
+  EXPECT_NE(md.find("Within 16.7 ms a frame: photon_map relmse 0.01235 (max_radius=0.1, photons=100000); pinhole relmse "
+                    "0.03"),
             std::string::npos);
-  EXPECT_NE(md.find("| 0.01 | **40 ms \u00b7 relmse 0.005 \u00b7 k=50, photons=1000000** | not reached (best relmse 0.03) |"), std::string::npos) << "equal error, target 0.01";
+  EXPECT_NE(md.find("| 0.01 | **40 ms \u00b7 relmse 0.005 \u00b7 max_radius=0.1, photons=1000000** | not reached (best "
+                    "relmse 0.03) |"), std::string::npos) << "equal error, target 0.01";
   EXPECT_NE(md.find("not reached (best relmse 0.03)"), std::string::npos) << "pinhole never reaches 0.01";
   EXPECT_EQ(summary.plots, 8u) << "two trade-offs, total cost, convergence, error against time, three sweeps";
+}
+
+// Issue 52, item 5: a run is named by its experiment entry and every knob that differs from its method's
+// defaults, wherever one run is named, and two entries of one method are two columns. On the synthetic
+// folder, pm_1e4 becomes the quickstart's "lpi grid vector" entry (orientation: vector fixed, grid_resolution
+// swept), pm_1e5_k10 a second photon_map entry "photon_map fixed k", and pin_400 an external entry
+// "my_splat" whose command is its only knob off its default.
+TEST_F(ReportTest, RunsAreNamedByTheirEntryAndTheKnobsOffTheirDefaults) {
+  auto rewrite = [&](const std::string& key, auto change) {
+    const fs::path path = folder / "runs" / key / "record.json";
+    json record = json::parse(read_text(path));
+    change(record);
+    write_json(path, record);
+  };
+  rewrite("pm_1e4", [](json& record) {
+    record["method"] = "lpi";
+    record["entry"] = "lpi grid vector";
+    record["label"] = "lpi grid vector grid_resolution=128";
+    record["build"] = {{"orientation", "vector"}, {"grid_resolution", 128}, {"storage", "grid"}};
+    record["render"] = json::object();
+    record["swept"] = {{"grid_resolution", "128"}};
+  });
+  rewrite("pm_1e5_k10", [](json& record) {
+    record.erase("entry");  // an older record: its entry comes from its label
+    record["label"] = "photon_map fixed k photons=100000 k=10";
+  });
+  rewrite("pin_400", [](json& record) {
+    record["method"] = "external";
+    record["entry"] = "my_splat";
+    record["label"] = "my_splat";
+    record["build"] = {{"command", "python3 splat.py"}};
+    record["frame"] = json::object();
+    record["render"] = json::object();
+    record["swept"] = json::object();
+  });
+  json experiment = json::parse(read_text(folder / "experiment.json"));
+  experiment["budgets_ms"] = {10, 33.3};
+  write_json(folder / "experiment.json", experiment);
+  ReportSummary summary = write_report(folder.string());
+  const std::string md = read_text(summary.markdown);
+  // lpi at 5 ms, relMSE 0.1; pinhole 8 ms, 0.03; photon_map fixed k 14 ms, 0.05; my_splat 30 ms, 0.04.
+  EXPECT_NE(md.find("Within 10 ms a frame: pinhole relmse 0.03 (filtering=none, samples=100); lpi grid vector relmse "
+                    "0.1 (grid_resolution=128, orientation=vector); photon_map not reached"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("photon_map fixed k relmse 0.05 (k=10, max_radius=0.1, photons=100000)"), std::string::npos) << md;
+  EXPECT_NE(md.find("my_splat relmse 0.04 (command=python3 splat.py)"), std::string::npos) << md;
+  EXPECT_NE(md.find("| frame budget | lpi grid vector | photon_map | photon_map fixed k | pinhole | my_splat |"),
+            std::string::npos)
+      << "two entries of one method are two columns; the external entry is its label\n" << md;
+  EXPECT_NE(md.find("| external | my_splat | command=python3 splat.py |"), std::string::npos) << "the results table";
+  const json results = json::parse(read_text(summary.json));
+  const json& fronts = results["pareto_front"]["per_method"];
+  EXPECT_TRUE(fronts.contains("lpi grid vector") && fronts.contains("photon_map fixed k") && fronts.contains("my_splat"))
+      << fronts.dump();
+  // The plots' legends: the entries, each its own colour.
+  const std::string html = read_text(summary.html);
+  EXPECT_NE(html.find("\"domain\":[\"lpi grid vector\",\"photon_map\",\"photon_map fixed k\",\"pinhole\",\"my_splat\"]"),
+            std::string::npos);
 }
 
 // Ratio claims on the synthetic runs: pinhole samples=400 renders in 22.5 ms (0.75 x 30), samples=100

@@ -122,7 +122,8 @@ TEST(EndToEnd, TinyExperimentRunsAndReports) {
   std::string markdown((std::istreambuf_iterator<char>(markdown_stream)), std::istreambuf_iterator<char>());
   EXPECT_NE(markdown.find("photon_map k=20 photons=2000"), std::string::npos) << markdown.substr(0, 2000);
   // The paper's value stands beside our matching run.
-  EXPECT_NE(markdown.find("| photon_map | k=20, photons=2000 | photon_map k=20 photons=2000 | 0.5 |"), std::string::npos)
+  EXPECT_NE(markdown.find("| photon_map | k=20, photons=2000 | photon_map (k=20, max_radius=0.3, photons=2000) | 0.5 |"),
+            std::string::npos)
       << markdown;
   EXPECT_NE(markdown.find("invented for the test"), std::string::npos);
   std::ifstream csv_stream(folder_path + "/results.csv");

@@ -108,6 +108,7 @@ nlohmann::json CausticMappingMethod::record() const {
                       {"photons", s.photons},
                       {"landed", s.landed},
                       {"search_failed", s.search_failed},
+                      {"search_failed_at_start", s.search_failed_at_start},
                       {"second_interface_failed", s.second_interface_failed},
                       {"outside_map", s.outside_map},
                       {"one_interface", s.one_interface},
@@ -162,7 +163,16 @@ std::optional<LostFlux> CausticMappingMethod::lost_flux(const FrameContext& fram
               "(an upper bound)";
   // The larger share names the knob. Glass's Fresnel reflection, which the method does not follow at all,
   // is in the record (fresnel_reflection_not_modelled), not here: no knob recovers it.
-  if (search_lost + s.flux_outside_map >= s.flux_second_interface) {
+  if (search_lost + s.flux_outside_map >= s.flux_second_interface &&
+      s.flux_search_failed_at_start > 0.5 * s.flux_search_failed) {
+    // Most failed searches never started: more iterations cannot help (issue 52: a sun 3 degrees above the
+    // floor fails every search at 5 and at 20 iterations alike).
+    lost.knob = "intersection";
+    lost.advice = fmt::format("set intersection: exact: {:.0f} % of the failed searches could not start, the light "
+                              "seeing no receiver behind the photon's own texel (a light grazing the receivers sees "
+                              "past them), which no search_iterations changes",
+                              100.0 * s.flux_search_failed_at_start / s.flux_search_failed);
+  } else if (search_lost + s.flux_outside_map >= s.flux_second_interface) {
     lost.knob = "search_iterations";
     lost.advice = "raise search_iterations, or set intersection: exact to measure what the image-space search loses";
   } else {

@@ -181,11 +181,13 @@ void PassStatistics::add(const PassStatistics& other) {
   photons += other.photons;
   landed += other.landed;
   search_failed += other.search_failed;
+  search_failed_at_start += other.search_failed_at_start;
   second_interface_failed += other.second_interface_failed;
   outside_map += other.outside_map;
   one_interface += other.one_interface;
   flux_leaving += other.flux_leaving;
   flux_search_failed += other.flux_search_failed;
+  flux_search_failed_at_start += other.flux_search_failed_at_start;
   flux_second_interface += other.flux_second_interface;
   flux_outside_map += other.flux_outside_map;
   flux_not_modelled += other.flux_not_modelled;
@@ -311,6 +313,10 @@ void count_landing(PassStatistics& statistics, const PhotonRay& photon, Landing 
   if (landing == Landing::search_failed) {
     ++statistics.search_failed;
     statistics.flux_search_failed += flux;
+    if (steps <= 1) {  // the start's read failed: there was nothing to iterate from
+      ++statistics.search_failed_at_start;
+      statistics.flux_search_failed_at_start += flux;
+    }
     return;
   }
   // Absorbed on the way is light the reference absorbs too: neither landed nor lost.

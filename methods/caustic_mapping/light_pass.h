@@ -38,11 +38,15 @@ struct PassStatistics {
   uint64_t photons = 0;         // covered photon-buffer texels (one photon each)
   uint64_t landed = 0;          // splatted into the caustic map
   uint64_t search_failed = 0;   // the receiver search left the light view, found no receiver, or did not converge
+  // Of those, the searches that could not start: the light sees no receiver behind the photon's own texel
+  // (a light grazing the receivers sees past them; receivers outside its window). No search_iterations
+  // recovers these: the lost flux's advice then names intersection: exact.
+  uint64_t search_failed_at_start = 0;
   uint64_t second_interface_failed = 0;  // two_interface: total internal reflection, or the exit point off the object
   uint64_t outside_map = 0;     // found a receiver outside the caustic map's window, or one the light does not see
   uint64_t one_interface = 0;   // glass photons refracted at one interface (refraction: one_interface, or auto on a surface)
   double flux_leaving = 0.0;    // everything leaving the object that the method could model, plus what it cannot
-  double flux_search_failed = 0.0;
+  double flux_search_failed = 0.0, flux_search_failed_at_start = 0.0;
   double flux_second_interface = 0.0;
   double flux_outside_map = 0.0;
   double flux_not_modelled = 0.0;  // glass's Fresnel reflection: the method follows the refracted part only

@@ -17,7 +17,8 @@ const MethodInfo& CausticVolumeMethod::static_info() {
     m.params = {
         ParamSpec::integer("tessellation", 64, 3, 4096,
                            "quads around an analytic shape's axis (a sphere 64 x 32, a ring's wall 64 x 8: Ernst et "
-                           "al.'s 2 x 64 x 8 triangles); meshes keep their own triangles",
+                           "al.'s 2 x 64 x 8 triangles); a box's or prism's triangles are cut (tessellation / 4)^2 each; "
+                           "other meshes keep their own triangles",
                            ParamPhase::frame),
         ParamSpec::real("max_distance", 0.0, 1e-6, 1e9,
                         "the far cap: how far along its vertex rays a volume reaches, scene units; auto: per volume, "

@@ -135,7 +135,32 @@ TriangleMesh tessellate_analytic(const ShapeDesc& shape, int segments) {
   return mesh;
 }
 
-SurfaceMesh surface_mesh(const SceneFrame& frame, int object, int segments) {
+SurfaceMesh subdivide_flat(const SurfaceMesh& flat, int n) {
+  if (n <= 1) return flat;
+  SurfaceMesh cut;
+  for (const glm::uvec3& triangle : flat.triangles) {
+    const glm::dvec3 a = flat.positions[triangle.x], b = flat.positions[triangle.y], c = flat.positions[triangle.z];
+    const glm::dvec3 normal = flat.normals[triangle.x];
+    // The point at barycentric steps (i along a->b, j along a->c), i + j <= n.
+    auto point = [&](int i, int j) { return a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n); };
+    auto add = [&](glm::dvec3 p, glm::dvec3 q, glm::dvec3 r) {
+      const uint32_t first = static_cast<uint32_t>(cut.positions.size());
+      for (const glm::dvec3& corner : {p, q, r}) {
+        cut.positions.push_back(corner);
+        cut.normals.push_back(normal);
+      }
+      cut.triangles.emplace_back(first, first + 1, first + 2);
+    };
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; i + j < n; ++j) {
+        add(point(i, j), point(i + 1, j), point(i, j + 1));  // the winding of (a, b, c)
+        if (i + j + 1 < n) add(point(i + 1, j), point(i + 1, j + 1), point(i, j + 1));
+      }
+  }
+  return cut;
+}
+
+SurfaceMesh surface_mesh(const SceneFrame& frame, int object, int segments, bool subdivide_flat_solids) {
   const SceneObject& described = frame.scene->objects[static_cast<size_t>(object)];
   SurfaceMesh mesh;
   if (described.shape.is_analytic()) {
@@ -168,7 +193,8 @@ SurfaceMesh surface_mesh(const SceneFrame& frame, int object, int segments) {
       }
       flat.triangles.emplace_back(first, first + 1, first + 2);
     }
-    return flat;
+    const bool solid = described.shape.kind == ShapeKind::box || described.shape.kind == ShapeKind::prism;
+    return subdivide_flat_solids && solid ? subdivide_flat(flat, std::max(1, segments / 4)) : flat;
   }
   return mesh;
 }

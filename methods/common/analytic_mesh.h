@@ -30,6 +30,15 @@ struct SurfaceMesh {
 // The object's mesh at this frame: an analytic shape tessellated with `segments` (above), otherwise the
 // scene's own triangles (what the ray tracer intersects). Caustic volumes build their beams on it; the
 // rasterised light views of caustics mapping draw it.
-SurfaceMesh surface_mesh(const SceneFrame& frame, int object, int segments);
+// `subdivide_flat_solids`: a box's or prism's faces are cut like a sphere's, each of its triangles into
+// n x n with n = max(1, segments / 4) (a box's four sides around its axis are then about `segments`
+// edges, as a sphere's equator is): a beam spanning a whole face would send its corner rays out through
+// different faces and tear (caustic volumes). The cut triangles lie in the face, flat-shaded, so the
+// surface is the same; only where the beams are drawn changes.
+SurfaceMesh surface_mesh(const SceneFrame& frame, int object, int segments, bool subdivide_flat_solids = false);
+
+// Each triangle of a flat-shaded mesh (its own three vertices) cut into n x n triangles of the same plane
+// and winding, each with the parent's normal.
+SurfaceMesh subdivide_flat(const SurfaceMesh& flat, int n);
 
 }  // namespace causticbench

@@ -198,3 +198,45 @@ TEST(CausticMapping, VariableSplatsHaveLessErrorThanFixedOnesAndNoWiderFocus) {
     EXPECT_LE(width[2], width[1] * 1.05) << photons;
   }
 }
+
+// Issue 52, item 6: a sun 3 degrees above the floor, off a mirror dish tilted to throw it down. The search
+// starts at the receiver the light sees behind the photon's own texel; at 3 degrees the light sees past
+// the dish to no receiver at all (the floor ends long before the sun's ray through the dish, 1.2 high,
+// meets y = 0 at 23 m), so every search fails at its start and more iterations cannot help: the advice
+// names intersection: exact, and following it lands every photon, while 20 iterations change nothing.
+// The advice it gave before ("raise search_iterations") recovered nothing.
+TEST(CausticMapping, AGrazingSunDefeatsTheSearchAtItsStartAndTheAdviceNamesTheExactIntersection) {
+  const Scene scene = scene_from_yaml(R"(name: grazing_dish
+camera: {position: [2.5, 2.0, 2.5], look_at: [0.0, 0.3, 0.0], fov_degrees: 40, resolution: [48, 48]}
+lights:
+  - {name: sun, type: directional, direction: [0.9986295, -0.0523360, 0.0], irradiance: 3.0}
+objects:
+  - {name: floor, shape: {type: quad, size: [6.0, 6.0]}, material: {type: diffuse, albedo: 0.75}}
+  - name: dish
+    shape: {type: paraboloid, focal_length: 0.5, radius: 0.5}
+    transform: {translate: [0.0, 1.2, 0.0], rotate: [0.0, 0.0, 134.0]}
+    material: {type: mirror, reflectance: 0.95}
+)");
+  const std::vector<std::string> few = {"photon_resolution=128", "caustic_map_resolution=128"};
+  auto with = [&](std::vector<std::string> knobs) {
+    knobs.insert(knobs.end(), few.begin(), few.end());
+    return render(scene, "caustic_mapping", knobs);
+  };
+  const FrameResult defaults = with({});
+  ASSERT_TRUE(defaults.lost_flux);
+  const nlohmann::json& pass = defaults.method_record["passes"][0];
+  std::printf("defaults: lost %.3f, %s of %s searches failed, %s at their start; advice: %s\n",
+              defaults.lost_flux->fraction, pass["search_failed"].dump().c_str(), pass["photons"].dump().c_str(),
+              pass["search_failed_at_start"].dump().c_str(), defaults.lost_flux->advice.c_str());
+  EXPECT_GT(defaults.lost_flux->fraction, 0.99);
+  EXPECT_EQ(pass["search_failed_at_start"], pass["search_failed"]);
+  EXPECT_EQ(defaults.lost_flux->knob, "intersection");
+  EXPECT_NE(defaults.lost_flux->advice.find("set intersection: exact"), std::string::npos);
+  const FrameResult more = with({"search_iterations=20"});
+  EXPECT_GT(more.lost_flux->fraction, 0.99) << "more iterations: nothing recovered";
+  const FrameResult exact = with({"intersection=exact"});
+  std::printf("search_iterations 20: lost %.3f; intersection exact: lost %.3f, E_c sum %.3g\n", more.lost_flux->fraction,
+              exact.lost_flux->fraction, masked_sum(exact.caustic, exact.gbuffer.receiver));
+  EXPECT_LT(exact.lost_flux->fraction, 0.01) << "the advice followed recovers the light";
+  EXPECT_GT(masked_sum(exact.caustic, exact.gbuffer.receiver), 0.0);
+}

@@ -11,10 +11,12 @@
 
 #include <gtest/gtest.h>
 
+#include "core/files.h"
 #include "core/image_statistics.h"
 #include "core/scene.h"
 #include "core/tracer.h"
 #include "metrics/flip.h"
+#include "methods/common/analytic_mesh.h"
 #include "methods/caustic_volume/volume.h"
 #include "methods/caustic_volume/tests/scenes.h"
 #include "tests/test_support.h"
@@ -443,4 +445,58 @@ TEST(CausticVolume, ThroughTheGlassSphereAgainstTheReference) {
   EXPECT_LT(caustic_flip(through.caustic, reference.caustic, receiver).mean,
             0.7 * caustic_flip(once.caustic, reference.caustic, receiver).mean);
   EXPECT_EQ(relative_mse(automatic.caustic, through.caustic, receiver), 0.0);
+}
+
+// Issue 52: the shipped glass cube (configs/scenes/glass_cube.yaml, at 64^2). Its faces were one beam per
+// half face, 12 triangles at any tessellation: every lit beam's corner rays left through different faces
+// (torn) or were trapped, so nothing reached the floor (lost flux 1.0) and the advice, "raise
+// tessellation", changed nothing. The faces are now cut n x n (n = tessellation / 4, surface_mesh): the
+// triangles tile the same faces (area 6 x 0.8^2 at every n), the beams reach the floor, and the torn share
+// and the lost flux fall as the knob the advice names rises while the energy rises (measured here: lost
+// 0.465, 0.193, 0.053 and energy 0.116, 0.471, 0.700 of the reference's at 16, 64, 256; volumes 59, 1281,
+// 23472). The far cap's count no longer takes light landing on the floor at the cap for light beyond it
+// (it read 0.294 at 256, with max_distance as its knob, while max_distance was auto already). What the
+// lost flux does not explain at 256 (0.25) is the report's light account's to say.
+TEST(CausticVolume, AGlassCubesFacesAreCutSoThatRaisingTessellationRecoversItsLight) {
+  const std::string path = std::string(CAUSTICBENCH_SOURCE_DIR) + "/configs/scenes/glass_cube.yaml";
+  const Scene scene = scene_from_yaml(causticbench::testing::replace_once(read_text(path), "resolution: [256, 256]",
+                                                                           "resolution: [64, 64]"));
+  const SceneFrame frame{scene, 0};
+  const int cube = 1;
+  for (int tessellation : {4, 16, 64}) {
+    const SurfaceMesh mesh = surface_mesh(frame, cube, tessellation, true);
+    double area = 0.0;
+    for (const glm::uvec3& t : mesh.triangles)
+      area += 0.5 * glm::length(glm::cross(mesh.positions[t.y] - mesh.positions[t.x], mesh.positions[t.z] - mesh.positions[t.x]));
+    const size_t n = static_cast<size_t>(std::max(1, tessellation / 4));
+    EXPECT_EQ(mesh.triangles.size(), 12 * n * n) << tessellation;
+    EXPECT_NEAR(area, 6.0 * 0.8 * 0.8, 1e-6) << tessellation;  // the mesh is float
+  }
+  EXPECT_EQ(surface_mesh(frame, cube, 64).triangles.size(), 12u) << "without the cut: the scene's own triangles";
+
+  const FrameResult reference = render(scene, "reference", causticbench::testing::kSmallSceneReferenceKnobs);
+  const std::vector<uint8_t>& receiver = reference.gbuffer.receiver;
+  double previous_lost = 1.0, previous_torn = 1.0, previous_energy = 0.0;
+  for (int tessellation : {4, 16, 64, 256}) {
+    const FrameResult result = render(scene, "caustic_volume", {"tessellation=" + std::to_string(tessellation)});
+    ASSERT_TRUE(result.lost_flux);
+    const double volumes = result.method_record["volumes"].get<double>();
+    const double torn = result.method_record["volumes_torn"].get<double>() / std::max(1.0, volumes + result.method_record["volumes_torn"].get<double>());
+    const double energy = masked_sum(result.caustic, receiver) / masked_sum(reference.caustic, receiver);
+    std::printf("tessellation %d: %.0f volumes, torn share %.3f, lost %.3f, energy %.3f, energy + lost %.3f\n", tessellation,
+                volumes, torn, result.lost_flux->fraction, energy, energy + result.lost_flux->fraction);
+    if (tessellation == 4) {  // one beam a half face: what every tessellation gave before the cut
+      EXPECT_EQ(volumes, 0.0);
+      EXPECT_EQ(result.lost_flux->fraction, 1.0);
+      continue;
+    }
+    EXPECT_GT(volumes, 0.0) << tessellation;
+    EXPECT_LT(result.lost_flux->fraction, previous_lost) << tessellation;
+    EXPECT_LT(torn, previous_torn) << tessellation;
+    EXPECT_EQ(result.lost_flux->knob, "tessellation");
+    previous_lost = result.lost_flux->fraction;
+    previous_torn = torn;
+    EXPECT_GT(energy, previous_energy) << tessellation;
+    previous_energy = energy;
+  }
 }

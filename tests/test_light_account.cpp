@@ -1,0 +1,130 @@
+// Issue 52, item 4: the light account (experiments/light_account.h) against a method that lies about what
+// it models. Two synthetic methods render nothing on the small glass sphere, whose caustic in view is ~96 %
+// one pass through the ball and ~3 % reflected off it (methods/reference/tests/test_reference_path_classes.cpp):
+//   - "declares_refraction" says it models reflection, refraction and multiple bounces: its
+//     missing light is nothing it declares, so the account leaves ~all of it unexplained and flags it, in
+//     the runner's warning and in the report's findings and results table;
+//   - "declares_reflection_only" says it models reflection only: the ~96 % in the one-pass class is its
+//     declared model share, the ~3 % it misses is within the tolerance, and nothing is flagged.
+// Both are black, so the difference is only what they declare: the flag reads the declarations against the
+// reference's split, not the image.
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "experiments/experiment.h"
+#include "experiments/light_account.h"
+#include "experiments/runner.h"
+#include "methods/registry.h"
+#include "reports/report.h"
+#include "reports/summary.h"
+#include "tests/test_support.h"
+
+using namespace causticbench;
+
+namespace {
+
+template <bool kRefraction>
+class DarkMethod : public CausticMethod {
+ public:
+  static const MethodInfo& static_info() {
+    static const MethodInfo info = [] {
+      MethodInfo m;
+      m.name = kRefraction ? "declares_refraction" : "declares_reflection_only";
+      m.paper = "none (a test fixture)";
+      m.summary = "renders no caustic";
+      m.capabilities.reflection = true;
+      m.capabilities.refraction = kRefraction;
+      m.capabilities.multiple_bounces = kRefraction;  // the ball's light after internal reflections (0.2 %)
+      m.capabilities.directional_light = true;
+      return m;
+    }();
+    return info;
+  }
+  const MethodInfo& info() const override { return static_info(); }
+  void prepare(const PrepareContext&, const ParamSet&) override {}
+  void update(const FrameContext&, const ParamSet&) override {}
+  Image render(const GBuffer& gbuffer, const ParamSet&) override { return Image(gbuffer.width, gbuffer.height, 3, 0.0f); }
+  size_t memory_bytes() const override { return 0; }
+  Counters counters() const override { return {}; }
+};
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
+TEST(LightAccount, FlagsAMethodThatDeclaresACapabilityItLacks) {
+  ScopedMethodRegistration liar({&DarkMethod<true>::static_info, [] { return std::make_unique<DarkMethod<true>>(); }});
+  ScopedMethodRegistration honest({&DarkMethod<false>::static_info, [] { return std::make_unique<DarkMethod<false>>(); }});
+  causticbench::testing::TemporaryFolder folder("light_account");
+  folder.write("scene.yaml", causticbench::testing::replace_once(causticbench::testing::kSmallGlassSphere,
+                                                                 "resolution: [40, 40]", "resolution: [24, 24]"));
+  const Experiment experiment = load_experiment(folder.write("accounts.yaml", R"(name: accounts
+scene: scene.yaml
+reference: {photons_per_pass: 200000, max_passes: 2, target_error: 0}
+repetitions: 1
+metrics: [relmse, energy_ratio]
+methods:
+  - method: declares_refraction
+  - method: declares_reflection_only
+)"));
+  RunOptions options;
+  options.results = folder.path("results");
+  ::testing::internal::CaptureStderr();
+  const RunSummary summary = run_experiment(experiment, options);
+  const std::string printed = ::testing::internal::GetCapturedStderr();
+  ASSERT_EQ(summary.completed, 2u) << printed;
+
+  // The runner's one-line warning names the liar only.
+  EXPECT_NE(printed.find("warning: run declares_refraction unexplained: 1.00 of the light missing, not a declared limit"),
+            std::string::npos)
+      << printed;
+  EXPECT_EQ(printed.find("warning: run declares_reflection_only"), std::string::npos) << printed;
+
+  // The accounts themselves, from the stored records against the reference's split.
+  const std::string results = options.results + "/accounts";
+  const nlohmann::json experiment_json = nlohmann::json::parse(read_file(results + "/experiment.json"));
+  std::optional<LightAccount> lying, declared;
+  for (const auto& entry : std::filesystem::directory_iterator(results + "/runs")) {
+    const RunRecord record = RunRecord::from_json(nlohmann::json::parse(read_file((entry.path() / "record.json").string())));
+    const nlohmann::json reference =
+        nlohmann::json::parse(read_file(options.results + "/references/" + record.reference_key + "/record.json"));
+    (record.method == "declares_refraction" ? lying : declared) = account_for_record(reference, record);
+  }
+  ASSERT_TRUE(lying && declared);
+  EXPECT_EQ(lying->energy, 0.0);
+  EXPECT_EQ(lying->model, 0.0) << "it declares everything the sphere's light needs";
+  EXPECT_NEAR(lying->unexplained, 1.0, 1e-12);
+  EXPECT_TRUE(lying->flagged);
+  EXPECT_GT(declared->model, 0.9) << "the one-pass class: refraction, which it declares it lacks";
+  EXPECT_LT(declared->unexplained, kUnexplainedLightTolerance) << "the light reflected off the ball, ~3 %";
+  EXPECT_FALSE(declared->flagged);
+
+  // The report says the same beside the scores.
+  const ReportSummary report = write_report(results);
+  const std::string md = read_file(report.markdown);
+  EXPECT_NE(md.find("Light not accounted for: **declares_refraction**"), std::string::npos) << md;
+  EXPECT_EQ(md.find("Light not accounted for: **declares_reflection_only**"), std::string::npos) << md;
+  EXPECT_NE(md.find("(100 % of the light unexplained)"), std::string::npos) << md;
+  EXPECT_NE(md.find("model): declares_reflection_only does not model 9"), std::string::npos) << md;
+
+  // The study's summary says where each fails from the same accounts.
+  const SummaryFiles files = write_summary({results}, folder.path("summary"));
+  const nlohmann::json study = nlohmann::json::parse(read_file(files.json));
+  std::map<std::string, std::set<std::string>> kinds;
+  for (const nlohmann::json& method : study.at("methods"))
+    for (const nlohmann::json& failure : method.at("failures")) kinds[method.at("method")].insert(failure.at("kind"));
+  EXPECT_TRUE(kinds["declares_refraction"].count("light unexplained")) << study.dump(2);
+  EXPECT_FALSE(kinds["declares_refraction"].count("not modelled"));
+  EXPECT_TRUE(kinds["declares_reflection_only"].count("not modelled")) << study.dump(2);
+  EXPECT_FALSE(kinds["declares_reflection_only"].count("light unexplained"));
+}
