@@ -38,9 +38,16 @@ std::optional<LightAccount> account_for_light(const nlohmann::json& reference_re
     if (share > 0.0) account.unmodelled.emplace_back(name, share);
   std::stable_sort(account.unmodelled.begin(), account.unmodelled.end(),
                    [](const auto& a, const auto& b) { return a.second > b.second; });
-  // The method's lost flux and its model share may be the same light (a method that cannot place the light
-  // it does not model may count it lost): together they explain at most all of it.
-  account.unexplained = 1.0 - account.energy - std::min(1.0, account.lost + account.model);
+  // The energy the declarations and the lost flux account for is an interval: from delivering none of the
+  // light in the unmodelled classes to delivering all of it (a method that does not model a class may still
+  // put out an approximation of its light: csl's cones on a mirror), less the lost flux either way. The
+  // lost flux and the model share may name the same light (a method that cannot place the light it does
+  // not model may count it lost): together they explain at most all of it.
+  const double lost = std::clamp(account.lost, 0.0, 1.0);
+  const double lowest = 1.0 - std::min(1.0, lost + account.model), highest = 1.0 - lost;
+  account.unexplained = account.energy < lowest    ? lowest - account.energy
+                        : account.energy > highest ? highest - account.energy
+                                                   : 0.0;
   account.flagged = std::abs(account.unexplained) > kUnexplainedLightTolerance;
   return account;
 }

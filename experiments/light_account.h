@@ -1,9 +1,14 @@
 // Where a run's light went (issue 52): against the reference's caustic flux in view, a run's measured
 // energy ratio, the method's own lost flux (what its knobs can recover: methods/method.h, LostFlux), its
 // model share (the reference's light in the path classes it declares it does not model: the joint
-// interaction x light shares of the reference's `path_classes`, core/path_classes.h) and what is left:
-//   unexplained = 1 - energy - min(1, lost + model), signed (an excess is unexplained too; lost and model
-//   may name the same light, so together they explain at most all of it).
+// interaction x light shares of the reference's `path_classes`, core/path_classes.h) and what is left.
+// The declarations and the lost flux account for an energy between
+//   lowest = 1 - min(1, lost + model)   (none of the unmodelled light delivered; lost and model may name the
+//                                        same light, so together they explain at most all of it) and
+//   highest = 1 - lost                  (a method that does not model a class may still put out an
+//                                        approximation of its light: csl's cones on a mirror ring),
+// and unexplained is the energy's distance outside that interval, signed: lowest - energy when below (light
+// missing), highest - energy when above (light in excess), 0 within.
 // A run whose unexplained part is beyond kUnexplainedLightTolerance is flagged. The tolerance is the
 // capability verdict's energy tolerance (experiments/capability_verdict.h, 0.15): the largest energy error
 // a method may show on a case it declares it models; the reference's own share errors are far below it

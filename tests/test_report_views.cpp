@@ -326,6 +326,10 @@ TEST(LightAccounting, UnexplainedIsWhatNeitherTheLostFluxNorTheDeclaredLimitsAcc
   EXPECT_NE(text.find("does not model 31.0 % of this scene's caustic in view (multiple_bounces 31.0 %)"), std::string::npos) << text;
   EXPECT_NE(text.find("unexplained: 0.34 of the light missing, not a declared limit"), std::string::npos) << text;
   EXPECT_FALSE(account_for_light(reference, refracting, 0.69, 0.0)->flagged);
+  // Some of the light it does not model delivered anyway (an approximation of it): within the interval.
+  EXPECT_EQ(account_for_light(reference, refracting, 0.85, 0.0)->unexplained, 0.0);
+  // More than all the light it does not lose: in excess, from the interval's top, 1 - lost.
+  EXPECT_NEAR(account_for_light(reference, refracting, 1.2, 0.045)->unexplained, -0.245, 1e-12);
   // Without point lights too, the multiple/point light is needed by both capabilities and counted once.
   refracting.point_light = false;
   account = account_for_light(reference, refracting, 0.69, 0.0);
