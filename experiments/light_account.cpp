@@ -52,15 +52,25 @@ std::optional<LightAccount> account_for_light(const nlohmann::json& reference_re
   return account;
 }
 
+namespace {
+
+// The method's declarations as this build registers it; none for a method it does not (a plugin not loaded
+// here): its declarations are unknown, so no account is given.
+std::optional<Capabilities> declared_capabilities(const std::string& method) {
+  try {
+    return find_method(method).info().capabilities;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+}  // namespace
+
 std::optional<LightAccount> account_for_record(const nlohmann::json& reference_record, const RunRecord& run) {
   const std::optional<double> energy = run.metric("energy_ratio");
   if (!energy || !std::isfinite(*energy) || run.empty_reference_frames) return std::nullopt;
-  Capabilities capabilities;
-  try {
-    capabilities = find_method(run.method).info().capabilities;
-  } catch (const std::exception&) {
-    return std::nullopt;  // a method this build does not register: its declarations are unknown here
-  }
+  const std::optional<Capabilities> capabilities = declared_capabilities(run.method);
+  if (!capabilities) return std::nullopt;
   double lost = 0.0;
   if (run.lost_flux) {
     size_t frames = 0;
@@ -69,7 +79,33 @@ std::optional<LightAccount> account_for_record(const nlohmann::json& reference_r
       if (std::isfinite(fraction)) sum += fraction, ++frames;
     lost = frames ? sum / static_cast<double>(frames) : run.lost_flux->worst.fraction;
   }
-  return account_for_light(reference_record, capabilities, *energy, lost);
+  return account_for_light(reference_record, *capabilities, *energy, lost);
+}
+
+std::vector<FrameLightAccount> frame_accounts(const nlohmann::json& reference_record, const RunRecord& run) {
+  std::vector<FrameLightAccount> accounts;
+  if (!reference_record.is_object() || run.empty_reference_frames) return accounts;
+  const std::optional<Capabilities> capabilities = declared_capabilities(run.method);
+  if (!capabilities) return accounts;
+  const nlohmann::json& frames = reference_record.contains("frames") ? reference_record["frames"] : nlohmann::json();
+  for (size_t i = 0; i < run.frames.size(); ++i) {
+    const FrameRecord& frame = run.frames[i];
+    auto energy = frame.metrics.find("energy_ratio");
+    if (energy == frame.metrics.end() || !std::isfinite(energy->second)) continue;
+    // This frame's split: record.json "frames" keyed by the frame's number, else the record's own (one frame).
+    nlohmann::json split = reference_record;
+    const std::string key = std::to_string(frame.frame);
+    if (frames.is_object() && frames.contains(key) && frames[key].contains("path_classes"))
+      split = nlohmann::json{{"path_classes", frames[key]["path_classes"]}};
+    else if (reference_record.value("frame", frame.frame) != frame.frame)
+      continue;  // no split for this frame
+    const double lost = run.lost_flux && i < run.lost_flux->frames.size() && std::isfinite(run.lost_flux->frames[i])
+                            ? run.lost_flux->frames[i]
+                            : 0.0;
+    if (std::optional<LightAccount> account = account_for_light(split, *capabilities, energy->second, lost))
+      accounts.push_back({frame.frame, *account});
+  }
+  return accounts;
 }
 
 std::string unmodelled_text(const LightAccount& account) {

@@ -49,6 +49,15 @@ std::optional<LightAccount> account_for_light(const nlohmann::json& reference_re
 // measured no energy ratio or this build does not register its method (its declarations are unknown here).
 std::optional<LightAccount> account_for_record(const nlohmann::json& reference_record, const RunRecord& run);
 
+// The account of each of the run's frames that has an energy ratio, against the reference's split of that
+// frame (its record.json "frames"; the top-level split for a reference of one frame) and that frame's lost
+// flux: what the mean account (account_for_record) hides in an animation, a frame whose light went missing.
+struct FrameLightAccount {
+  int frame = 0;
+  LightAccount account;
+};
+std::vector<FrameLightAccount> frame_accounts(const nlohmann::json& reference_record, const RunRecord& run);
+
 // "multiple_bounces 31.0 %, point_light 1.0 %": the capabilities the method lacks, with their shares.
 std::string unmodelled_text(const LightAccount& account);
 

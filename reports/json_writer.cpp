@@ -24,7 +24,15 @@ std::string results_json(const Report& report) {
         for (const auto& [capability, share] : account->unmodelled) unmodelled[capability] = share;
         record["light_account"] = {{"energy", account->energy}, {"lost", account->lost}, {"model", account->model},
                                    {"unexplained", account->unexplained}, {"flagged", account->flagged},
-                                   {"unmodelled", unmodelled}};
+                                   {"unmodelled", unmodelled}, {"frames", json::array()}};
+        for (const FrameLightAccount& frame :
+             frame_accounts(report.variants.at(run.variant_index).reference, run.record))
+          record["light_account"]["frames"].push_back({{"frame", frame.frame},
+                                                       {"energy", frame.account.energy},
+                                                       {"lost", frame.account.lost},
+                                                       {"model", frame.account.model},
+                                                       {"unexplained", frame.account.unexplained},
+                                                       {"flagged", frame.account.flagged}});
       }
     runs.push_back(record);
   }

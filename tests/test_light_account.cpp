@@ -116,6 +116,14 @@ methods:
   EXPECT_EQ(md.find("Light not accounted for: **declares_reflection_only**"), std::string::npos) << md;
   EXPECT_NE(md.find("(100 % of the light unexplained)"), std::string::npos) << md;
   EXPECT_NE(md.find("model): declares_reflection_only does not model 9"), std::string::npos) << md;
+  // results.json: the run's account and its one frame's, the same here.
+  for (const nlohmann::json& run : nlohmann::json::parse(read_file(report.json)).at("runs")) {
+    const nlohmann::json& account = run.at("light_account");
+    ASSERT_EQ(account.at("frames").size(), 1u) << account.dump();
+    EXPECT_EQ(account["frames"][0]["frame"], 0);
+    EXPECT_DOUBLE_EQ(account["frames"][0]["unexplained"].get<double>(), account["unexplained"].get<double>());
+    EXPECT_EQ(account["flagged"], run.at("method") == "declares_refraction");
+  }
 
   // The study's summary says where each fails from the same accounts.
   const SummaryFiles files = write_summary({results}, folder.path("summary"));

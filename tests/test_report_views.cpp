@@ -349,6 +349,40 @@ TEST(LightAccounting, UnexplainedIsWhatNeitherTheLostFluxNorTheDeclaredLimitsAcc
   EXPECT_FALSE(account_for_light(reference, everything, 1.0, 0.0));
 }
 
+// Per frame: each frame's energy ratio and lost flux against that frame's split (record.json "frames").
+// Frame 0's light is 69 % one pass and 31 % multiple (a refracting-only method delivering 0.69 is accounted
+// for); by frame 1 the light has moved so that all of it is one pass, and the same 0.69 leaves 0.31 missing.
+TEST(LightAccounting, EachFrameIsAccountedAgainstItsOwnSplit) {
+  auto joint = [](double one_pass) {
+    return json{{"in_view",
+                 {{"flux", 1.0},
+                  {"joint",
+                   {{"one_pass/directional", {{"share", one_pass}, {"capabilities", {"refraction", "directional_light"}}}},
+                    {"multiple/directional",
+                     {{"share", 1.0 - one_pass}, {"capabilities", {"multiple_bounces", "directional_light"}}}}}}}}};
+  };
+  const json reference = {{"frame", 0},
+                          {"path_classes", joint(0.69)},
+                          {"frames", {{"0", {{"path_classes", joint(0.69)}}}, {"1", {{"path_classes", joint(1.0)}}}}}};
+  RunRecord run = full_record();
+  run.method = "csl";  // refraction yes, multiple bounces no (methods/csl/README.md)
+  run.frames.resize(2);
+  run.frames[0].frame = 0;
+  run.frames[1].frame = 1;
+  run.frames[0].metrics = {{"energy_ratio", 0.69}};
+  run.frames[1].metrics = {{"energy_ratio", 0.69}};
+  run.lost_flux.reset();
+  run.empty_reference_frames.reset();
+  const std::vector<FrameLightAccount> frames = frame_accounts(reference, run);
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_EQ(frames[0].frame, 0);
+  EXPECT_NEAR(frames[0].account.model, 0.31, 1e-12);
+  EXPECT_EQ(frames[0].account.unexplained, 0.0);
+  EXPECT_NEAR(frames[1].account.model, 0.0, 1e-12);
+  EXPECT_NEAR(frames[1].account.unexplained, 0.31, 1e-12);
+  EXPECT_TRUE(frames[1].account.flagged);
+}
+
 TEST_F(ReportTest, TradeoffsOnAnyAxesAndTheViews) {
   json experiment = json::parse(read_text(folder / "experiment.json"));
   experiment["tradeoffs"] = json::array({json::array({"frame_ms", "relmse"}), json::array({"memory_bytes", "psnr"}),
