@@ -311,7 +311,12 @@ class RunExecutor {
           const std::optional<LostFluxRecord>& lost = outcome.record.lost_flux;
           if (lost && lost->worst.fraction > kLostFluxWarning)
             fmt::print(stderr, "warning: run {} {}\n", run.label, describe_lost_flux(lost->worst));
-          warn_of_unexplained_light(run, outcome.record);
+          // A warning, never a failure of the run it is about: stored already, it stays stored.
+          try {
+            warn_of_unexplained_light(run, outcome.record);
+          } catch (const std::exception& error) {
+            fmt::print(stderr, "warning: run {}: its light account could not be read: {}\n", run.label, error.what());
+          }
         } else {
           ++summary_.failed;
           fmt::print(stderr, "run {} failed: {}\n", run.label, outcome.record.error);

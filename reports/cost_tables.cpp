@@ -179,7 +179,7 @@ std::string views_caption(const Report& report) {
       "Equal time: per frame budget, the best {0} each method reaches with a median frame time within it, and with "
       "which knobs. Equal error: per target, the least frame time at which each method reaches a {0} at least as "
       "good{1}. Break-even: after how many frames a run that precomputes more costs no more in total (prepare + N "
-      "\u00d7 frame time) than every run of another method that is at least as accurate. Marked: the best of the row.{2}",
+      "\u00d7 frame time) than every run of another entry that is at least as accurate. Marked: the best of the row.{2}",
       report.primary, report.error_targets.empty() ? " (targets: the best error each method reaches)" : "",
       report.seeds > 1 ? " Errors are means over the seeds \u00b1 their 95 % interval; \u2248: not separated (equal time: "
                          "its interval overlaps the row's best; equal error: the target lies within its interval)."

@@ -87,8 +87,9 @@ Table break_even_table(const Report& report, size_t variant);
 // Whether some variant has a point to compare, and what the three tables mean (plain text).
 bool has_views(const Report& report);
 std::string views_caption(const Report& report);
-// A run's swept knobs as a person reads them ("its defaults" when none was swept), and a frame budget
-// ("16.7 ms", "10 s"): how the views and the study's summary name them.
+// A run's knobs that differ from its method's defaults as a person reads them ("its defaults" when none
+// does: Run::changed_text), and a frame budget ("16.7 ms", "10 s"): how the views and the study's summary
+// name them.
 std::string knobs_of(const Run& run);
 std::string budget_text(double ms);
 // "Within 16.7 ms: ..." per budget (and variant): the summary's lines.

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <limits>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -239,15 +240,21 @@ std::string entry_of_label(const std::string& label, const std::string& variant,
   std::string entry = label;
   const std::string at = " @" + variant;
   if (!variant.empty() && entry.size() > at.size() && entry.ends_with(at)) entry.resize(entry.size() - at.size());
-  // The swept words were appended in the entry's order, not the record's: strip any of them from the end.
-  bool stripped = swept.is_object();
-  while (stripped) {
+  // The swept words were appended in the entry's order, not the record's: strip each of them once, from
+  // the end, whichever comes last (an entry label may itself end in a word like one of them).
+  std::set<std::string> words;
+  if (swept.is_object())
+    for (const auto& [name, value] : swept.items())
+      words.insert(" " + name + "=" + (value.is_string() ? value.get<std::string>() : value.dump()));
+  bool stripped = true;
+  while (stripped && !words.empty()) {
     stripped = false;
-    for (const auto& [name, value] : swept.items()) {
-      const std::string word = " " + name + "=" + (value.is_string() ? value.get<std::string>() : value.dump());
-      if (entry.size() > word.size() && entry.ends_with(word)) {
-        entry.resize(entry.size() - word.size());
+    for (auto word = words.begin(); word != words.end(); ++word) {
+      if (entry.size() > word->size() && entry.ends_with(*word)) {
+        entry.resize(entry.size() - word->size());
+        words.erase(word);
         stripped = true;
+        break;
       }
     }
   }

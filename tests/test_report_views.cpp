@@ -123,6 +123,11 @@ TEST(RunRecord, WritesAndReadsEveryField) {
   older["variant"] = "small";
   older["swept"] = {{"light_subdivision", "2"}, {"grid_resolution", "64"}};
   EXPECT_EQ(RunRecord::from_json(older).entry, "lpi grid vector");
+  // An entry label that ends like a swept word keeps it: each swept word is stripped once.
+  older["label"] = "photon_map k=50 k=50";
+  older["variant"] = "default";
+  older["swept"] = {{"k", "50"}};
+  EXPECT_EQ(RunRecord::from_json(older).entry, "photon_map k=50");
 }
 
 TEST(RunRecord, UpgradesVersionOneAndRefusesNewerVersions) {

@@ -184,8 +184,16 @@ void CausticMappingMethod::update_on_device() {
       const float* landing = &readback.landings[4 * slot];
       const auto what = static_cast<caustic_mapping::Landing>(static_cast<uint32_t>(landing[2]));
       const Color arriving(readback.arriving[4 * slot], readback.arriving[4 * slot + 1], readback.arriving[4 * slot + 2]);
-      caustic_mapping::count_landing(pass.statistics, pass.leaving.back(), what, arriving, static_cast<int>(landing[3]));
-      if (what == caustic_mapping::Landing::search_failed) pass.dropped.push_back(static_cast<uint32_t>(pass.leaving.size() - 1));
+      // The photon stage counts the start's read as a step: with iterations to take, a search that read only
+      // once failed at its start (with none, a start that did not converge reads once too: not counted).
+      const bool at_start = what == caustic_mapping::Landing::search_failed && settings_.search_iterations > 0 &&
+                            static_cast<int>(landing[3]) <= 1;
+      caustic_mapping::count_landing(pass.statistics, pass.leaving.back(), what, arriving, static_cast<int>(landing[3]),
+                                     at_start);
+      if (what == caustic_mapping::Landing::search_failed) {
+        pass.dropped.push_back(static_cast<uint32_t>(pass.leaving.size() - 1));
+        pass.dropped_at_start.push_back(at_start ? 1 : 0);
+      }
     }
   }
   gpu_->last_render = false;

@@ -307,13 +307,14 @@ LightPass begin_pass(const Tracer& tracer, const LightFrame& light, int object, 
   return pass;
 }
 
-void count_landing(PassStatistics& statistics, const PhotonRay& photon, Landing landing, const Color& arriving, int steps) {
+void count_landing(PassStatistics& statistics, const PhotonRay& photon, Landing landing, const Color& arriving, int steps,
+                   bool at_start) {
   statistics.search_steps += static_cast<uint64_t>(steps);
   const double flux = luminance(photon.flux);
   if (landing == Landing::search_failed) {
     ++statistics.search_failed;
     statistics.flux_search_failed += flux;
-    if (steps <= 1) {  // the start's read failed: there was nothing to iterate from
+    if (at_start) {  // the start's read failed: there was nothing to iterate from
       ++statistics.search_failed_at_start;
       statistics.flux_search_failed_at_start += flux;
     }
@@ -335,6 +336,7 @@ void land_and_splat(const Tracer& tracer, const Settings& settings, LightPass& p
   const size_t count = pass.leaving.size(), block = 4096, blocks = (count + block - 1) / block;
   std::vector<std::vector<LandedPhoton>> landed(blocks);
   std::vector<std::vector<uint32_t>> dropped(blocks);
+  std::vector<std::vector<uint8_t>> dropped_at_start(blocks);
   std::vector<PassStatistics> block_statistics(blocks);
   const int n = settings.map_resolution;
   const ReceiverMap& receivers = pass.receivers;
@@ -345,8 +347,12 @@ void land_and_splat(const Tracer& tracer, const Settings& settings, LightPass& p
       const SearchResult found = search_receiver(receivers, tracer, photon.origin, photon.direction,
                                                  settings.search_iterations, settings.exact, settings.refine);
       if (found.failure != SearchFailure::none) {
-        count_landing(statistics, photon, Landing::search_failed, Color(0.0f), found.steps);
+        // Failed at the start: the first read found nothing (an exact ray is no search; a search that read
+        // once and did not converge had a start).
+        const bool at_start = !settings.exact && found.steps == 1 && found.failure != SearchFailure::not_converged;
+        count_landing(statistics, photon, Landing::search_failed, Color(0.0f), found.steps, at_start);
         dropped[index].push_back(static_cast<uint32_t>(i));
+        dropped_at_start[index].push_back(at_start ? 1 : 0);
         continue;
       }
       const Color arriving = photon.flux * glm::exp(-photon.absorption * glm::length(found.hit - photon.origin));
@@ -368,6 +374,7 @@ void land_and_splat(const Tracer& tracer, const Settings& settings, LightPass& p
     pass.statistics.add(block_statistics[index]);
     photons.insert(photons.end(), landed[index].begin(), landed[index].end());
     pass.dropped.insert(pass.dropped.end(), dropped[index].begin(), dropped[index].end());
+    pass.dropped_at_start.insert(pass.dropped_at_start.end(), dropped_at_start[index].begin(), dropped_at_start[index].end());
   }
 
   // The caustic map, as flux per texel measure.

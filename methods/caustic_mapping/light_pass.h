@@ -133,6 +133,7 @@ struct LightPass {
   PassStatistics statistics;
   std::vector<PhotonRay> leaving;    // in photon-buffer texel order; second interfaces that failed are not here
   std::vector<uint32_t> dropped;     // indices into `leaving` of the photons the receiver search dropped
+  std::vector<uint8_t> dropped_at_start;  // per dropped photon: its search failed at its start (count_landing)
   double photon_window_half_extent = 0.0;  // the photon buffer's window (scene units, or tan of the half-angle)
 };
 
@@ -149,7 +150,11 @@ void count_leaving(LightPass& pass, const Outgoing& photon);
 
 // Adds one searched photon to the statistics: `arriving` is what reaches its receiver (landed and
 // outside_map), `steps` the receiver-map reads. Both backends count through it.
-void count_landing(PassStatistics& statistics, const PhotonRay& photon, Landing landing, const Color& arriving, int steps);
+// `at_start`: a failed search whose first read, the receiver behind the photon's own texel, found none (or
+// left the light's view); its callers decide (the CPU from the search's failure, the Vulkan backend from
+// its step count), since a search of 0 iterations that starts but does not converge also reads once.
+void count_landing(PassStatistics& statistics, const PhotonRay& photon, Landing landing, const Color& arriving, int steps,
+                   bool at_start = false);
 
 // The CPU backend's half: every photon of `pass.leaving` searched, counted, splatted into pass.density.
 void land_and_splat(const Tracer& tracer, const Settings& settings, LightPass& pass);

@@ -239,4 +239,13 @@ objects:
               exact.lost_flux->fraction, masked_sum(exact.caustic, exact.gbuffer.receiver));
   EXPECT_LT(exact.lost_flux->fraction, 0.01) << "the advice followed recovers the light";
   EXPECT_GT(masked_sum(exact.caustic, exact.gbuffer.receiver), 0.0);
+  EXPECT_EQ(exact.method_record["passes"][0]["search_failed_at_start"], 0) << "an exact ray is no search";
+  // A search of 0 iterations that starts but does not converge read once too: it had a start. On the flat
+  // mirror's beam, steep to the floor the light sees, the start is found and the check fails or passes.
+  const FrameResult none = render(scene_from_yaml(kFlatMirror), "caustic_mapping", {"search_iterations=0"});
+  const nlohmann::json& flat = none.method_record["passes"][0];
+  std::printf("flat mirror at 0 iterations: %s of %s searches failed, %s at their start\n", flat["search_failed"].dump().c_str(),
+              flat["photons"].dump().c_str(), flat["search_failed_at_start"].dump().c_str());
+  EXPECT_EQ(flat["search_failed_at_start"], 0);
+  EXPECT_NE(none.lost_flux->knob, "intersection");
 }
