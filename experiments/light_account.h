@@ -13,7 +13,7 @@
 // capability verdict's energy tolerance (experiments/capability_verdict.h, 0.15): the largest energy error
 // a method may show on a case it declares it models; the reference's own share errors are far below it
 // (hundredths of a percent at the shipped settings). One definition for the runner's warning
-// (experiments/runner.cpp) and the report's findings, tables and results.json (reports/light_accounting.h).
+// (experiments/runner.cpp) and the report, which accounts each run once as it loads (Run::light_account).
 #pragma once
 
 #include <optional>

@@ -7,7 +7,6 @@
 
 #include "core/errors.h"
 #include "reports/report_parts.h"
-#include "reports/light_accounting.h"
 #include "reports/scene_requirements.h"
 
 namespace causticbench::report_detail {
@@ -177,12 +176,12 @@ std::vector<std::string> findings(const Report& report, bool html) {
     if (std::optional<std::string> required = scene_requirements_text(variant.reference))
       lines.push_back(fmt::format("What this scene requires{} (the reference's caustic flux in view, frame {}): {}.", in,
                                   variant.reference.value("frame", 0), text(*required)));
-    // Where each run's light went (reports/light_accounting.h): what each method does not model, once per
+    // Where each run's light went (Run::light_account): what each method does not model, once per
     // method, and every run whose light is not accounted for.
     std::map<std::string, std::string> not_modelled;
     for (size_t i : report.ok_runs()) {
       if (report.runs[i].variant_index != v) continue;
-      const std::optional<LightAccount> account = account_for_run(report, report.runs[i]);
+      const std::optional<LightAccount>& account = report.runs[i].light_account;
       if (!account) continue;
       if (account->model >= 0.0005 && !not_modelled.count(report.runs[i].method))
         not_modelled[report.runs[i].method] = fmt::format("{} does not model {:.1f} % of it ({})", report.runs[i].method,

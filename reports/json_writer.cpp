@@ -2,7 +2,6 @@
 // older record lacks them), the variants with their references, the Pareto fronts and the checked
 // claims, for scripts (docs/reports.md, "Outputs").
 #include "reports/capability_matrix.h"
-#include "reports/light_accounting.h"
 #include "reports/report_parts.h"
 
 namespace causticbench::report_detail {
@@ -17,23 +16,22 @@ std::string results_json(const Report& report) {
     if (run.record.reference_key.empty()) record["reference_key"] = run.reference_key;
     if (!run.record.receiver_pixels) record["receiver_pixels"] = nullptr;
     if (run.stale) record["stale"] = run.error;
-    // Where its light went (reports/light_accounting.h), against its variant's reference.
-    if (run.ok)
-      if (std::optional<LightAccount> account = account_for_run(report, run)) {
-        json unmodelled = json::object();
-        for (const auto& [capability, share] : account->unmodelled) unmodelled[capability] = share;
-        record["light_account"] = {{"energy", account->energy}, {"lost", account->lost}, {"model", account->model},
-                                   {"unexplained", account->unexplained}, {"flagged", account->flagged},
-                                   {"unmodelled", unmodelled}, {"frames", json::array()}};
-        for (const FrameLightAccount& frame :
-             frame_accounts(report.variants.at(run.variant_index).reference, run.record))
-          record["light_account"]["frames"].push_back({{"frame", frame.frame},
-                                                       {"energy", frame.account.energy},
-                                                       {"lost", frame.account.lost},
-                                                       {"model", frame.account.model},
-                                                       {"unexplained", frame.account.unexplained},
-                                                       {"flagged", frame.account.flagged}});
-      }
+    // Where its light went (Run::light_account), against its variant's reference, then each frame's.
+    if (const std::optional<LightAccount>& account = run.light_account) {
+      json unmodelled = json::object();
+      for (const auto& [capability, share] : account->unmodelled) unmodelled[capability] = share;
+      json frames = json::array();
+      for (const FrameLightAccount& frame : run.frame_light_accounts)
+        frames.push_back({{"frame", frame.frame},
+                          {"energy", frame.account.energy},
+                          {"lost", frame.account.lost},
+                          {"model", frame.account.model},
+                          {"unexplained", frame.account.unexplained},
+                          {"flagged", frame.account.flagged}});
+      record["light_account"] = {{"energy", account->energy}, {"lost", account->lost}, {"model", account->model},
+                                 {"unexplained", account->unexplained}, {"flagged", account->flagged},
+                                 {"unmodelled", unmodelled}, {"frames", frames}};
+    }
     runs.push_back(record);
   }
   auto keys = [&](const std::vector<size_t>& indices) {

@@ -317,6 +317,15 @@ void load_report(Report& report, const std::string& folder_text) {
     const json& history = member(variant.reference, "history");
     if (history.is_array()) variant.history = history;
   }
+
+  // Where each compared run's light went, once: the findings, the results table, results.json and the
+  // study's summary read it.
+  for (Run& run : report.runs) {
+    if (!run.ok || run.empty_reference) continue;
+    const json& reference = report.variants.at(run.variant_index).reference;
+    run.light_account = account_for_record(reference, run.record);
+    if (run.light_account) run.frame_light_accounts = frame_accounts(reference, run.record);
+  }
 }
 
 }  // namespace causticbench::report_detail

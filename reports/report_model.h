@@ -24,6 +24,7 @@
 
 #include "store/result_paths.h"
 #include "store/run_record.h"
+#include "experiments/light_account.h"
 #include "metrics/baselines.h"
 #include "metrics/confidence.h"
 #include "metrics/metrics.h"
@@ -56,6 +57,12 @@ struct Run {
   // Its knobs that differ from its method's declared defaults (report_loading.cpp; the swept ones when
   // this build does not register the method): what names it beside its entry.
   json changed = json::object();
+  // Where its light went (experiments/light_account.h), against its variant's reference record: the run's
+  // account and each frame's, computed once as the report loads (report_loading.cpp); none for a run that
+  // is not ok, against an empty reference, without energy_ratio or a reference with the joint split, or of
+  // a method this build does not register.
+  std::optional<LightAccount> light_account;
+  std::vector<FrameLightAccount> frame_light_accounts;
   // Measured against another reference than the experiment's current one (its settings changed since):
   // listed with the runs that are not compared, never mixed into fronts, claims or views.
   bool stale = false;

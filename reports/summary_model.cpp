@@ -13,8 +13,6 @@
 #include "core/errors.h"
 #include "reports/summary_model.h"
 
-#include "reports/light_accounting.h"
-
 namespace causticbench::report_detail {
 
 namespace {
@@ -83,7 +81,7 @@ void add_account_failures(const Report& report, const SummaryScene& scene, size_
   for (size_t i : report.ok_runs()) {
     const Run& run = report.runs[i];
     if (run.method != standing.method || run.variant_index != scene.variant) continue;
-    const std::optional<LightAccount> account = account_for_run(report, run);
+    const std::optional<LightAccount>& account = run.light_account;
     if (!account) continue;
     ++accounted;
     if (!declared) declared = account;  // the model share is the method's and the scene's, not the run's

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <map>
 
-#include "reports/light_accounting.h"
 #include "reports/report_parts.h"
 
 namespace causticbench::report_detail {
@@ -129,7 +128,7 @@ Table results_table(const Report& report) {
     const LostFlux* lost = run.record.lost_flux ? &run.record.lost_flux->worst : nullptr;
     const bool loses = lost && lost->fraction > kLostFluxWarning;
     if (loses) label += fmt::format(" (loses {:.0f} % of the caustic: {})", 100.0 * lost->fraction, lost->knob);
-    const std::optional<LightAccount> account = account_for_run(report, run);
+    const std::optional<LightAccount>& account = run.light_account;
     if (account && account->flagged)
       label += fmt::format(" ({:.0f} % of the light unexplained{})", 100.0 * std::abs(account->unexplained),
                            account->unexplained < 0.0 ? ", in excess" : "");

@@ -9,10 +9,8 @@
 // Both are black, so the difference is only what they declare: the flag reads the declarations against the
 // reference's split, not the image.
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
-#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -22,6 +20,7 @@
 #include "methods/registry.h"
 #include "reports/report.h"
 #include "reports/summary.h"
+#include "tests/report_test_support.h"
 #include "tests/test_support.h"
 
 using namespace causticbench;
@@ -52,13 +51,6 @@ class DarkMethod : public CausticMethod {
   size_t memory_bytes() const override { return 0; }
   Counters counters() const override { return {}; }
 };
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 }  // namespace
 
@@ -92,12 +84,12 @@ methods:
 
   // The accounts themselves, from the stored records against the reference's split.
   const std::string results = options.results + "/accounts";
-  const nlohmann::json experiment_json = nlohmann::json::parse(read_file(results + "/experiment.json"));
+  const nlohmann::json experiment_json = nlohmann::json::parse(report_testing::read_text(results + "/experiment.json"));
   std::optional<LightAccount> lying, declared;
   for (const auto& entry : std::filesystem::directory_iterator(results + "/runs")) {
-    const RunRecord record = RunRecord::from_json(nlohmann::json::parse(read_file((entry.path() / "record.json").string())));
+    const RunRecord record = RunRecord::from_json(nlohmann::json::parse(report_testing::read_text((entry.path() / "record.json").string())));
     const nlohmann::json reference =
-        nlohmann::json::parse(read_file(options.results + "/references/" + record.reference_key + "/record.json"));
+        nlohmann::json::parse(report_testing::read_text(options.results + "/references/" + record.reference_key + "/record.json"));
     (record.method == "declares_refraction" ? lying : declared) = account_for_record(reference, record);
   }
   ASSERT_TRUE(lying && declared);
@@ -111,13 +103,13 @@ methods:
 
   // The report says the same beside the scores.
   const ReportSummary report = write_report(results);
-  const std::string md = read_file(report.markdown);
+  const std::string md = report_testing::read_text(report.markdown);
   EXPECT_NE(md.find("Light not accounted for: **declares_refraction**"), std::string::npos) << md;
   EXPECT_EQ(md.find("Light not accounted for: **declares_reflection_only**"), std::string::npos) << md;
   EXPECT_NE(md.find("(100 % of the light unexplained)"), std::string::npos) << md;
   EXPECT_NE(md.find("model): declares_reflection_only does not model 9"), std::string::npos) << md;
   // results.json: the run's account and its one frame's, the same here.
-  for (const nlohmann::json& run : nlohmann::json::parse(read_file(report.json)).at("runs")) {
+  for (const nlohmann::json& run : nlohmann::json::parse(report_testing::read_text(report.json)).at("runs")) {
     const nlohmann::json& account = run.at("light_account");
     ASSERT_EQ(account.at("frames").size(), 1u) << account.dump();
     EXPECT_EQ(account["frames"][0]["frame"], 0);
@@ -127,7 +119,7 @@ methods:
 
   // The study's summary says where each fails from the same accounts.
   const SummaryFiles files = write_summary({results}, folder.path("summary"));
-  const nlohmann::json study = nlohmann::json::parse(read_file(files.json));
+  const nlohmann::json study = nlohmann::json::parse(report_testing::read_text(files.json));
   std::map<std::string, std::set<std::string>> kinds;
   for (const nlohmann::json& method : study.at("methods"))
     for (const nlohmann::json& failure : method.at("failures")) kinds[method.at("method")].insert(failure.at("kind"));

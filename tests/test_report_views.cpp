@@ -18,7 +18,7 @@
 #include "store/run_record.h"
 #include "experiments/runner.h"
 #include "reports/cost_views.h"
-#include "reports/light_accounting.h"
+#include "experiments/light_account.h"
 #include "tests/report_test_support.h"
 
 namespace causticbench {
