@@ -13,6 +13,8 @@ constexpr std::array<const char*, kPathInteractions> kInteractionCapabilities = 
 constexpr std::array<const char*, kPathLights> kLightNames = {"directional", "point", "environment"};
 constexpr std::array<const char*, kPathLights> kLightCapabilities = {"directional_light", "point_light",
                                                                      "environment_light"};
+constexpr std::array<const char*, kPathReceivers> kReceiverNames = {"lambertian", "non_lambertian"};
+constexpr std::array<const char*, kPathReceivers> kReceiverCapabilities = {"", "non_lambertian_receivers"};
 
 }  // namespace
 
@@ -27,6 +29,17 @@ const char* path_interaction_capability(PathInteraction interaction) {
 const char* path_light_name(PathLight light) { return kLightNames[static_cast<size_t>(light)]; }
 
 const char* path_light_capability(PathLight light) { return kLightCapabilities[static_cast<size_t>(light)]; }
+
+const char* path_receiver_name(PathReceiver receiver) { return kReceiverNames[static_cast<size_t>(receiver)]; }
+
+const char* path_receiver_capability(PathReceiver receiver) {
+  return kReceiverCapabilities[static_cast<size_t>(receiver)];
+}
+
+PathReceiver path_receiver_of(const Material& material) {
+  // Only a purely diffuse surface is Lambertian; glossy and diffuse_mirror receivers have a specular part.
+  return material.kind == MaterialKind::diffuse ? PathReceiver::lambertian : PathReceiver::non_lambertian;
+}
 
 PathLight path_light_of(LightKind kind) {
   switch (kind) {

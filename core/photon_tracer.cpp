@@ -1,5 +1,6 @@
 #include "core/photon_tracer.h"
 
+#include <cmath>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -74,6 +75,24 @@ CausticPhotonTracer::CausticPhotonTracer(const Tracer& tracer, PhotonTracerSetti
   }
   for (const LightFrame& light : lights_) {
     if (!light.light) throw std::invalid_argument("CausticPhotonTracer: a light frame points at no light");
+  }
+  // Each receiver's world box: its analytic bounds' corners or its world mesh, posed.
+  for (size_t object = 0; object < frame.scene->objects.size() && object < frame.transforms.size(); ++object) {
+    const SceneObject& described = frame.scene->objects[object];
+    if (!described.material.receives_caustics()) continue;
+    Receiver receiver{static_cast<int>(object), Vec3(std::numeric_limits<float>::max()),
+                      Vec3(-std::numeric_limits<float>::max())};
+    auto include = [&](const Vec3& p) { receiver.lower = glm::min(receiver.lower, p), receiver.upper = glm::max(receiver.upper, p); };
+    if (described.shape.is_analytic()) {
+      glm::dvec3 lower, upper;
+      analytic_bounds(described.shape, lower, upper);
+      for (int corner = 0; corner < 8; ++corner)
+        include(frame.transforms[object].point(Vec3((corner & 1) ? upper.x : lower.x, (corner & 2) ? upper.y : lower.y,
+                                                    (corner & 4) ? upper.z : lower.z)));
+    } else if (object < frame.world_meshes.size()) {
+      for (const Vec3& p : frame.world_meshes[object].positions) include(p);
+    }
+    receivers_.push_back(receiver);
   }
   // Choose lights in proportion to the flux they aim at the targets (estimated from luminance).
   std::vector<double> weights;
@@ -208,7 +227,8 @@ bool CausticPhotonTracer::emit(EmissionDraws& draws, Ray& ray, Color& power, Pat
 // far, PathClass::packed);
 // `on_segment(segment)` for every straight piece travelled after the first specular bounce.
 template <class OnReceiver, class OnSegment>
-void CausticPhotonTracer::walk(uint64_t index, PhotonStats& stats, OnReceiver&& on_receiver, OnSegment&& on_segment) const {
+void CausticPhotonTracer::walk(uint64_t index, PhotonStats& stats, OnReceiver&& on_receiver, OnSegment&& on_segment,
+                               const BlockedVisit* on_blocked) const {
   Random random(settings_.seed, index);
   ++stats.emitted;
   // Nothing to aim at, or no flux towards it: the photon counts as emitted and carries nothing.
@@ -224,17 +244,21 @@ void CausticPhotonTracer::walk(uint64_t index, PhotonStats& stats, OnReceiver&& 
   EmissionDraws draws(random, sobol ? &*sobol : nullptr, point);
   PathLight light = PathLight::directional;
   if (!emit(draws, ray, power, light)) return;
-  follow(random, ray, power, light, nullptr, stats, on_receiver, on_segment);
+  follow(random, ray, power, light, nullptr, stats, on_receiver, on_segment, on_blocked);
 }
 
 // The path from an emitted ray on. With `differential`, its ray differentials are carried along: moved
 // to every hit and turned by every reflection and refraction (core/ray_differential.h).
+// With `on_blocked`, the path blocked on its way to its first specular object goes on as a blocked path
+// (`blocked`), and a photon that reached a receiver is followed through it (Blocked, core/photon_tracer.h).
 template <class OnReceiver, class OnSegment>
 void CausticPhotonTracer::follow(Random& random, Ray ray, Color power, PathLight light, RayDifferential* differential,
-                                 PhotonStats& stats, OnReceiver&& on_receiver, OnSegment&& on_segment) const {
+                                 PhotonStats& stats, OnReceiver&& on_receiver, OnSegment&& on_segment,
+                                 const BlockedVisit* on_blocked) const {
   const Scene& scene = *tracer_.frame().scene;
   float initial = max_component(power);
   int specular_bounces = 0;
+  bool blocked = false;
   PathClassifier path;
   const Material* medium = nullptr;  // the glass the photon travels in, if any
   for (int depth = 0; depth <= settings_.max_bounces; ++depth) {
@@ -257,8 +281,27 @@ void CausticPhotonTracer::follow(Random& random, Ray ray, Color power, PathLight
     if (material.receives_caustics()) {
       if (specular_bounces > 0) {
         Vec3 arrival_normal = from_outside ? hit.geometric_normal : -hit.geometric_normal;
-        on_receiver(hit, arrival_normal, ray.direction, power, PathClass{path.interaction(), light}.packed());
+        const PathClass arrived{path.interaction(), light, path_receiver_of(material), blocked};
+        if (blocked) {
+          // Where the blocked light would have arrived; inside a closed occluder it goes on.
+          if (records_blocked_on(hit, ray.direction)) {
+            (*on_blocked)(hit, arrival_normal, ray.direction, power, arrived.packed());
+            return;
+          }
+          ray = tracer_.spawn(hit, ray.direction);
+          continue;
+        }
+        on_receiver(hit, arrival_normal, ray.direction, power, arrived.packed());
         ++stats.deposited;
+        if (on_blocked) follow_through_receivers(hit, ray.direction, power, arrived, stats, *on_blocked);
+      } else if (on_blocked && material.kind != MaterialKind::diffuse_mirror) {
+        // Nothing specular met yet: this surface blocks the light on its way to a specular object. A method
+        // that does not model occlusion lets it through, so the path goes on, blocked, while it still heads
+        // for a target.
+        if (!heads_for_a_target(hit.position, ray.direction)) return;
+        blocked = true;
+        ray = tracer_.spawn(hit, ray.direction);
+        continue;
       }
       if (material.kind != MaterialKind::diffuse_mirror) return;
     }
@@ -307,8 +350,79 @@ void CausticPhotonTracer::follow(Random& random, Ray ray, Color power, PathLight
     if (max_component(power) <= 0.0f) return;
     ray = tracer_.spawn(hit, next);
   }
+  if (blocked) return;  // light that never arrived is not cut light
   ++stats.cut;
   stats.cut_flux += luminance(power);
+}
+
+void CausticPhotonTracer::follow_through_receivers(const SurfaceHit& hit, const Vec3& direction, const Color& power,
+                                                   PathClass path, PhotonStats& stats,
+                                                   const BlockedVisit& on_blocked) const {
+  const Scene& scene = *tracer_.frame().scene;
+  // Only where a receiver's box lies ahead (the one just reached counts unless it is a quad or a disk, which
+  // a straight line leaves for good): a floor under glass, or beside a wall standing on it, costs no ray.
+  bool ahead = false;
+  for (const Receiver& receiver : receivers_) {
+    const ShapeKind kind = scene.objects[receiver.object].shape.kind;
+    if (receiver.object == hit.object && (kind == ShapeKind::quad || kind == ShapeKind::disk)) continue;
+    if ((ahead = meets_box_ahead(receiver, hit.position, direction))) break;
+  }
+  if (!ahead) return;
+  path.blocked = true;
+  Ray ray = tracer_.spawn(hit, direction);
+  for (int surface = 0; surface < settings_.max_bounces; ++surface) {
+    SurfaceHit next;
+    ++stats.rays;
+    if (!tracer_.intersect(ray, next)) return;
+    const Material& material = scene.objects[next.object].material;
+    // A specular object beyond: what it would do with the light is another path, which no method without
+    // occlusion computes either.
+    if (!material.receives_caustics()) return;
+    if (records_blocked_on(next, direction)) {
+      path.receiver = path_receiver_of(material);
+      const bool from_outside = glm::dot(direction, next.geometric_normal) < 0.0f;
+      on_blocked(next, from_outside ? next.geometric_normal : -next.geometric_normal, direction, power, path.packed());
+    }
+    ray = tracer_.spawn(next, direction);
+  }
+}
+
+bool CausticPhotonTracer::meets_sphere_ahead(const BoundingSphere& sphere, const Vec3& origin, const Vec3& direction) {
+  // The line meets the sphere, and its far intersection lies ahead (t > 0).
+  const float length2 = glm::dot(direction, direction);
+  const Vec3 to_center = sphere.center - origin;
+  const float along = glm::dot(to_center, direction) / length2;
+  const float miss2 = glm::dot(to_center, to_center) - along * along * length2;
+  const float r2 = sphere.radius * sphere.radius;
+  return miss2 <= r2 && along + std::sqrt((r2 - miss2) / length2) > 0.0f;
+}
+
+bool CausticPhotonTracer::meets_box_ahead(const Receiver& box, const Vec3& origin, const Vec3& direction) {
+  // Slabs: the line's interval inside the box, which must reach beyond the spawn offset ahead. A grazing or
+  // axis-parallel line divides by zero into +-infinity, which the comparisons take as they should.
+  float near = -std::numeric_limits<float>::infinity(), far = std::numeric_limits<float>::infinity();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (direction[axis] == 0.0f) {
+      if (origin[axis] < box.lower[axis] || origin[axis] > box.upper[axis]) return false;
+      continue;
+    }
+    float t0 = (box.lower[axis] - origin[axis]) / direction[axis], t1 = (box.upper[axis] - origin[axis]) / direction[axis];
+    if (t0 > t1) std::swap(t0, t1);
+    near = std::max(near, t0);
+    far = std::min(far, t1);
+  }
+  return near <= far && far > 1e-4f * (1.0f + glm::length(origin)) / glm::length(direction);
+}
+
+bool CausticPhotonTracer::heads_for_a_target(const Vec3& origin, const Vec3& direction) const {
+  for (const BoundingSphere& target : targets_)
+    if (meets_sphere_ahead(target, origin, direction)) return true;
+  return false;
+}
+
+bool CausticPhotonTracer::records_blocked_on(const SurfaceHit& hit, const Vec3& direction) const {
+  const ShapeKind kind = tracer_.frame().scene->objects[hit.object].shape.kind;
+  return kind == ShapeKind::quad || kind == ShapeKind::disk || glm::dot(direction, hit.geometric_normal) < 0.0f;
 }
 
 void CausticPhotonTracer::trace_emitted(uint64_t index, const Ray& ray, const Color& power, RayDifferential differential,
@@ -325,18 +439,26 @@ void CausticPhotonTracer::trace_emitted(uint64_t index, const Ray& ray, const Co
 }
 
 void CausticPhotonTracer::trace_one(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats) const {
-  trace_path(index, photons, stats, nullptr);
+  trace_path(index, photons, stats, nullptr, nullptr);
 }
 
 void CausticPhotonTracer::trace_path(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats,
-                                     std::vector<uint8_t>* classes) const {
+                                     std::vector<uint8_t>* classes, Blocked* blocked) const {
+  BlockedVisit record_blocked;
+  if (blocked) {
+    record_blocked = [blocked](const SurfaceHit& hit, const Vec3& arrival_normal, const Vec3& direction,
+                               const Color& power, uint8_t path) {
+      blocked->photons.push_back(Photon{hit.position, arrival_normal, direction, power});
+      blocked->classes.push_back(path);
+    };
+  }
   walk(
       index, stats,
       [&](const SurfaceHit& hit, const Vec3& arrival_normal, const Vec3& direction, const Color& power, uint8_t path) {
         photons.push_back(Photon{hit.position, arrival_normal, direction, power});
         if (classes) classes->push_back(path);
       },
-      [](const PathSegment&) {});
+      [](const PathSegment&) {}, blocked ? &record_blocked : nullptr);
 }
 
 void CausticPhotonTracer::trace_segments(uint64_t index, PhotonStats& stats,
@@ -345,16 +467,16 @@ void CausticPhotonTracer::trace_segments(uint64_t index, PhotonStats& stats,
 }
 
 void CausticPhotonTracer::trace(uint64_t first, uint64_t count, std::vector<Photon>& photons, PhotonStats& stats) const {
-  trace_blocks(first, count, photons, stats, nullptr);
+  trace_blocks(first, count, photons, stats, nullptr, nullptr);
 }
 
 void CausticPhotonTracer::trace(uint64_t first, uint64_t count, std::vector<Photon>& photons, PhotonStats& stats,
-                                std::vector<uint8_t>& classes) const {
-  trace_blocks(first, count, photons, stats, &classes);
+                                std::vector<uint8_t>& classes, Blocked* blocked) const {
+  trace_blocks(first, count, photons, stats, &classes, blocked);
 }
 
 void CausticPhotonTracer::trace_blocks(uint64_t first, uint64_t count, std::vector<Photon>& photons,
-                                       PhotonStats& stats, std::vector<uint8_t>* classes) const {
+                                       PhotonStats& stats, std::vector<uint8_t>* classes, Blocked* blocked) const {
   if (targets_.empty() || total_weight_ <= 0.0) {
     stats.emitted += count;
     return;
@@ -363,12 +485,14 @@ void CausticPhotonTracer::trace_blocks(uint64_t first, uint64_t count, std::vect
   size_t blocks = (count + block_size - 1) / block_size;
   std::vector<std::vector<Photon>> block_photons(blocks);
   std::vector<std::vector<uint8_t>> block_classes(classes ? blocks : 0);
+  std::vector<Blocked> block_blocked(blocked ? blocks : 0);
   std::vector<PhotonStats> block_stats(blocks);
   parallel_blocks(count, block_size, [&](size_t begin, size_t end, size_t block) {
     std::vector<Photon>& local = block_photons[block];
     local.reserve((end - begin) / 2);
     for (size_t i = begin; i < end; ++i)
-      trace_path(first + i, local, block_stats[block], classes ? &block_classes[block] : nullptr);
+      trace_path(first + i, local, block_stats[block], classes ? &block_classes[block] : nullptr,
+                 blocked ? &block_blocked[block] : nullptr);
   });
   size_t total = photons.size();
   for (const auto& block : block_photons) total += block.size();
@@ -377,6 +501,11 @@ void CausticPhotonTracer::trace_blocks(uint64_t first, uint64_t count, std::vect
   for (size_t block = 0; block < blocks; ++block) {
     photons.insert(photons.end(), block_photons[block].begin(), block_photons[block].end());
     if (classes) classes->insert(classes->end(), block_classes[block].begin(), block_classes[block].end());
+    if (blocked) {
+      const Blocked& local = block_blocked[block];
+      blocked->photons.insert(blocked->photons.end(), local.photons.begin(), local.photons.end());
+      blocked->classes.insert(blocked->classes.end(), local.classes.begin(), local.classes.end());
+    }
     stats.add(block_stats[block]);
   }
 }

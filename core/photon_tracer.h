@@ -106,8 +106,22 @@ class CausticPhotonTracer {
   // The same, and each photon's path class (core/path_classes.h, PathClass::packed) appended to `classes`,
   // one per photon, in the same order. (An overload, not a defaulted parameter: plugins built against the
   // SDK link the four-argument trace.)
+  // With `blocked`, also the paths an occluder blocks (core/path_classes.h, occlusion), each followed on
+  // through the blocking surface as if it were not there and recorded where it would have arrived, with its
+  // class (PathClass::blocked set). Two kinds: a path blocked on its way from the light to its first
+  // specular object (followed while it still heads for a target's bounding sphere; recorded at its first
+  // receiver met from the front, then ended), and a photon that reached a receiver, continued straight
+  // through it (recorded at every further receiver it meets from the front, or on either side of a quad or
+  // disk, up to max_bounces surfaces; ended at a specular object). The second kind is traced only where the
+  // box of a receiver lies ahead (the one reached left out if it is a quad or a disk), so that a floor under
+  // glass costs no ray. Blocked paths draw only their own photon's random numbers:
+  // the photons that arrive are the same with or without `blocked`.
+  struct Blocked {
+    std::vector<Photon> photons;
+    std::vector<uint8_t> classes;
+  };
   void trace(uint64_t first, uint64_t count, std::vector<Photon>& photons, PhotonStats& stats,
-             std::vector<uint8_t>& classes) const;
+             std::vector<uint8_t>& classes, Blocked* blocked = nullptr) const;
   // Traces one photon path; appends at most a few photons (one per receiving surface on the path).
   void trace_one(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats) const;
   // Traces the same path as trace_one(index) and calls `visit` for each of its PathSegments, in order.
@@ -133,21 +147,43 @@ class CausticPhotonTracer {
  private:
   class EmissionDraws;
   void trace_blocks(uint64_t first, uint64_t count, std::vector<Photon>& photons, PhotonStats& stats,
-                    std::vector<uint8_t>* classes) const;
-  void trace_path(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats, std::vector<uint8_t>* classes) const;
+                    std::vector<uint8_t>* classes, Blocked* blocked) const;
+  void trace_path(uint64_t index, std::vector<Photon>& photons, PhotonStats& stats, std::vector<uint8_t>* classes,
+                  Blocked* blocked) const;
+  // Where a blocked path is recorded: hit, arrival normal, direction, power, class.
+  using BlockedVisit = std::function<void(const SurfaceHit&, const Vec3&, const Vec3&, const Color&, uint8_t)>;
+  // The straight continuation of a photon that reached a receiver at `hit`, through it (the second kind of
+  // blocked path above).
+  void follow_through_receivers(const SurfaceHit& hit, const Vec3& direction, const Color& power, PathClass path,
+                                PhotonStats& stats, const BlockedVisit& on_blocked) const;
+  // Whether a ray from `origin` along `direction` still meets a target's bounding sphere ahead.
+  bool heads_for_a_target(const Vec3& origin, const Vec3& direction) const;
+  static bool meets_sphere_ahead(const BoundingSphere& sphere, const Vec3& origin, const Vec3& direction);
+  struct Receiver;
+  static bool meets_box_ahead(const Receiver& box, const Vec3& origin, const Vec3& direction);
+  // Whether a blocked path is recorded on `object` met along `direction` at `hit`: from the front, or either
+  // side of a two-sided shape (quad, disk).
+  bool records_blocked_on(const SurfaceHit& hit, const Vec3& direction) const;
   // Draws an emission: its ray, its power and the kind of light it left.
   bool emit(EmissionDraws& draws, Ray& ray, Color& power, PathLight& light) const;
   template <class OnReceiver, class OnSegment>
-  void walk(uint64_t index, PhotonStats& stats, OnReceiver&& on_receiver, OnSegment&& on_segment) const;
+  void walk(uint64_t index, PhotonStats& stats, OnReceiver&& on_receiver, OnSegment&& on_segment,
+            const BlockedVisit* on_blocked = nullptr) const;
   template <class OnReceiver, class OnSegment>
   void follow(Random& random, Ray ray, Color power, PathLight light, RayDifferential* differential, PhotonStats& stats,
-              OnReceiver&& on_receiver, OnSegment&& on_segment) const;
+              OnReceiver&& on_receiver, OnSegment&& on_segment, const BlockedVisit* on_blocked = nullptr) const;
 
   const Tracer& tracer_;
   PhotonTracerSettings settings_;
   std::vector<LightFrame> lights_;
   std::vector<BoundingSphere> targets_;
   double target_area_ = 0.0;  // sum of the spheres' cross-sections
+  // The objects that receive caustics, each with its world box (Blocked: what may stand behind a receiver).
+  struct Receiver {
+    int object = 0;
+    Vec3 lower, upper;
+  };
+  std::vector<Receiver> receivers_;
   Distribution1D light_choice_;
   double total_weight_ = 0.0;
 };

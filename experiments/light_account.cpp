@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "core/path_classes.h"
 #include "methods/registry.h"
 
 namespace causticbench {
@@ -36,6 +37,9 @@ std::optional<LightAccount> account_for_light(const nlohmann::json& reference_re
   }
   for (const auto& [name, share] : needs)
     if (share > 0.0) account.unmodelled.emplace_back(name, share);
+  // Light that occluders block (a reference before the occlusion split has none to say).
+  if (declared.count(kOcclusionCapability) && !declared[kOcclusionCapability] && in_view.contains("occlusion"))
+    account.excess = std::max(0.0, in_view["occlusion"].value("excess", 0.0));
   std::stable_sort(account.unmodelled.begin(), account.unmodelled.end(),
                    [](const auto& a, const auto& b) { return a.second > b.second; });
   // The energy the declarations and the lost flux account for is an interval: from delivering none of the
@@ -44,7 +48,7 @@ std::optional<LightAccount> account_for_light(const nlohmann::json& reference_re
   // lost flux and the model share may name the same light (a method that cannot place the light it does
   // not model may count it lost): together they explain at most all of it.
   const double lost = std::clamp(account.lost, 0.0, 1.0);
-  const double lowest = 1.0 - std::min(1.0, lost + account.model), highest = 1.0 - lost;
+  const double lowest = 1.0 - std::min(1.0, lost + account.model), highest = 1.0 - lost + account.excess;
   account.unexplained = account.energy < lowest    ? lowest - account.energy
                         : account.energy > highest ? highest - account.energy
                                                    : 0.0;
@@ -119,6 +123,9 @@ std::string describe_light_account(const LightAccount& account) {
   if (account.model >= 0.0005)
     parts.push_back(fmt::format("does not model {:.1f} % of this scene's caustic in view ({})", 100.0 * account.model,
                                 unmodelled_text(account)));
+  if (account.excess >= 0.0005)
+    parts.push_back(fmt::format("may add up to {:.1f} % that occluders block ({})", 100.0 * account.excess,
+                                kOcclusionCapability));
   if (account.lost >= 0.0005) parts.push_back(fmt::format("loses {:.1f} % by its knobs", 100.0 * account.lost));
   if (account.flagged)
     parts.push_back(fmt::format("unexplained: {:.2f} of the light {}, not a declared limit", std::abs(account.unexplained),

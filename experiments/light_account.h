@@ -5,8 +5,10 @@
 // The declarations and the lost flux account for an energy between
 //   lowest = 1 - min(1, lost + model)   (none of the unmodelled light delivered; lost and model may name the
 //                                        same light, so together they explain at most all of it) and
-//   highest = 1 - lost                  (a method that does not model a class may still put out an
-//                                        approximation of its light: csl's cones on a mirror ring),
+//   highest = 1 - lost + excess         (a method that does not model a class may still put out an
+//                                        approximation of its light: csl's cones on a mirror ring; and a
+//                                        method that does not model occlusion may add the light occluders
+//                                        block, `excess`, the reference's occlusion "excess"),
 // and unexplained is the energy's distance outside that interval, signed: lowest - energy when below (light
 // missing), highest - energy when above (light in excess), 0 within.
 // A run whose unexplained part is beyond kUnexplainedLightTolerance is flagged. The tolerance is the
@@ -33,6 +35,9 @@ inline constexpr double kUnexplainedLightTolerance = kCapabilityEnergyTolerance;
 
 struct LightAccount {
   double energy = 0.0, lost = 0.0, model = 0.0, unexplained = 0.0;
+  // The light occluders block in view, as a fraction of the reference's, where the method declares that it
+  // does not model occlusion (0 otherwise): what it may put out beyond the reference.
+  double excess = 0.0;
   // The capabilities the method lacks that the scene's light needs, each with the share of the reference's
   // light in view that needs it (a path may need two), largest first.
   std::vector<std::pair<std::string, double>> unmodelled;
@@ -61,7 +66,8 @@ std::vector<FrameLightAccount> frame_accounts(const nlohmann::json& reference_re
 // "multiple_bounces 31.0 %, point_light 1.0 %": the capabilities the method lacks, with their shares.
 std::string unmodelled_text(const LightAccount& account);
 
-// "does not model 31.0 % of this scene's caustic in view (multiple_bounces 31.0 %)" and, when flagged,
+// "does not model 31.0 % of this scene's caustic in view (multiple_bounces 31.0 %)", "may add up to 23.0 %
+// that occluders block (occlusion)" and, when flagged,
 // "unexplained: 0.58 of the light missing, not a declared limit" (or "... in excess ...").
 std::string describe_light_account(const LightAccount& account);
 

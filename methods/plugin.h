@@ -15,8 +15,9 @@ namespace causticbench {
 // The SDK's version: raised whenever what crosses the boundary changes its layout or meaning (the
 // method interface, the registry entry, the headers docs/sdk.md lists). A plugin built against another
 // version is refused with both numbers. 2: text knobs and knob families (ParamSpec::family,
-// ParamType::text) and MethodInfo::runs_a_program.
-inline constexpr int kSdkVersion = 2;
+// ParamType::text) and MethodInfo::runs_a_program. 3: the caustic photon tracer's layout and PathClass
+// (core/photon_tracer.h: the occlusion split's blocked paths and receiver boxes; the receiver class).
+inline constexpr int kSdkVersion = 3;
 // The C++ ABI of the compiler and standard library: classes cross the boundary by value.
 inline constexpr int kCompilerAbi = __GXX_ABI_VERSION * 10 + _GLIBCXX_USE_CXX11_ABI;
 

@@ -183,9 +183,15 @@ std::vector<std::string> findings(const Report& report, bool html) {
       if (report.runs[i].variant_index != v) continue;
       const std::optional<LightAccount>& account = report.runs[i].light_account;
       if (!account) continue;
-      if (account->model >= 0.0005 && !not_modelled.count(report.runs[i].method))
-        not_modelled[report.runs[i].method] = fmt::format("{} does not model {:.1f} % of it ({})", report.runs[i].method,
-                                                          100.0 * account->model, unmodelled_text(*account));
+      if ((account->model >= 0.0005 || account->excess >= 0.0005) && !not_modelled.count(report.runs[i].method)) {
+        std::vector<std::string> limits;
+        if (account->model >= 0.0005)
+          limits.push_back(fmt::format("does not model {:.1f} % of it ({})", 100.0 * account->model,
+                                       unmodelled_text(*account)));
+        if (account->excess >= 0.0005)
+          limits.push_back(fmt::format("may add the {:.1f} % that occluders block (occlusion)", 100.0 * account->excess));
+        not_modelled[report.runs[i].method] = report.runs[i].method + " " + join(limits, " and ");
+      }
       if (account->flagged)
         lines.push_back(fmt::format("Light not accounted for{}: {} {}.", in, name(i), text(describe_light_account(*account))));
     }

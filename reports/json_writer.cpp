@@ -26,10 +26,11 @@ std::string results_json(const Report& report) {
                           {"energy", frame.account.energy},
                           {"lost", frame.account.lost},
                           {"model", frame.account.model},
+                          {"excess", frame.account.excess},
                           {"unexplained", frame.account.unexplained},
                           {"flagged", frame.account.flagged}});
       record["light_account"] = {{"energy", account->energy}, {"lost", account->lost}, {"model", account->model},
-                                 {"unexplained", account->unexplained}, {"flagged", account->flagged},
+                                 {"excess", account->excess}, {"unexplained", account->unexplained}, {"flagged", account->flagged},
                                  {"unmodelled", unmodelled}, {"frames", frames}};
     }
     runs.push_back(record);

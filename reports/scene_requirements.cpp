@@ -54,7 +54,16 @@ std::optional<std::string> scene_requirements_text(const nlohmann::json& referen
   const std::vector<std::string> interactions = listed(in_view.value("interaction", nlohmann::json()), true);
   const std::vector<std::string> lights = listed(in_view.value("light", nlohmann::json()), false);
   if (interactions.empty()) return std::nullopt;
-  return join(interactions, ", ") + (lights.empty() ? "" : "; light: " + join(lights, ", "));
+  std::string text = join(interactions, ", ") + (lights.empty() ? "" : "; light: " + join(lights, ", "));
+  // Receivers and occluders only where the scene has them (a record before their split has neither).
+  const nlohmann::json receivers = in_view.value("receiver", nlohmann::json());
+  if (receivers.is_object() && receivers.contains("non_lambertian") &&
+      receivers["non_lambertian"].value("share", 0.0) >= 0.0005)
+    text += "; receivers: " + join(listed(receivers, false), ", ");
+  const nlohmann::json occlusion = in_view.value("occlusion", nlohmann::json());
+  if (occlusion.is_object() && occlusion.value("share", 0.0) >= 0.0005)
+    text += "; occluders block " + percent(occlusion) + " of the light that would arrive without them (occlusion)";
+  return text;
 }
 
 }  // namespace causticbench::report_detail

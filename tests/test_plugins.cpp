@@ -152,7 +152,7 @@ TEST_F(Plugins, BadPluginsAreRefusedWithExitTwoAndNothingStored) {
   const struct {
     std::string path, message;
   } cases[] = {
-      {plugin("abi_mismatch"), "built against causticbench SDK version 1000, but this causticbench is SDK version 2"},
+      {plugin("abi_mismatch"), "built against causticbench SDK version 1001, but this causticbench is SDK version 3"},
       {plugin("no_entry_point"), "exports no causticbench_plugin(): not a causticbench plugin"},
       {plugin("throwing"), "plugin throwing (" + plugin("throwing") + "): its registration failed: the licence file licence.txt is missing"},
       {plugin("clash"), "its method 'photon_map' clashes with the built-in method of that name"},

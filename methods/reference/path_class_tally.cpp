@@ -5,19 +5,28 @@
 namespace causticbench {
 
 void PathClassTally::add_replicate(const std::vector<Photon>& photons, const std::vector<uint8_t>& classes,
-                                   const std::vector<int32_t>& targets, uint64_t emitted) {
+                                   const std::vector<int32_t>& targets, const CausticPhotonTracer::Blocked& blocked,
+                                   const std::vector<int32_t>& blocked_targets, uint64_t emitted) {
   Sums view, all;
   const double scale = 1.0 / static_cast<double>(std::max<uint64_t>(1, emitted));
   for (size_t i = 0; i < photons.size() && i < classes.size(); ++i) {
     const PathClass path = PathClass::unpack(classes[i]);
     const double flux = static_cast<double>(luminance(photons[i].power)) * scale;
+    const auto interaction = static_cast<size_t>(path.interaction), light = static_cast<size_t>(path.light),
+               receiver = static_cast<size_t>(path.receiver);
     for (Sums* sums : {&all, targets.size() > i && targets[i] >= 0 ? &view : nullptr}) {
       if (!sums) continue;
-      sums->interaction[static_cast<size_t>(path.interaction)] += flux;
-      sums->light[static_cast<size_t>(path.light)] += flux;
-      sums->joint[static_cast<size_t>(path.interaction) * kPathLights + static_cast<size_t>(path.light)] += flux;
+      sums->interaction[interaction] += flux;
+      sums->light[light] += flux;
+      sums->receiver[receiver] += flux;
+      sums->joint[(interaction * kPathLights + light) * kPathReceivers + receiver] += flux;
       sums->total += flux;
     }
+  }
+  for (size_t i = 0; i < blocked.photons.size(); ++i) {
+    const double flux = static_cast<double>(luminance(blocked.photons[i].power)) * scale;
+    all.blocked += flux;
+    if (blocked_targets.size() > i && blocked_targets[i] >= 0) view.blocked += flux;
   }
   in_view_.push_back(view);
   everywhere_.push_back(all);
@@ -27,17 +36,18 @@ namespace {
 
 // The share of class flux F in the total T over R replicates, Σ F_r / Σ T_r, and the standard error of
 // that ratio from the replicates' residuals F_r - share T_r (the delta method for a ratio of means).
-template <class Pick>
-nlohmann::json share_of(const std::vector<PathClassTally::Sums>& replicates, Pick pick, const char* capability) {
+template <class Pick, class Total>
+nlohmann::json share_of(const std::vector<PathClassTally::Sums>& replicates, Pick pick, Total total,
+                        const char* capability) {
   double class_sum = 0.0, total_sum = 0.0;
-  for (const auto& sums : replicates) class_sum += pick(sums), total_sum += sums.total;
+  for (const auto& sums : replicates) class_sum += pick(sums), total_sum += total(sums);
   const double share = total_sum > 0.0 ? class_sum / total_sum : 0.0;
   nlohmann::json entry = {{"share", share}, {"capability", capability}, {"standard_error", nullptr}};
   const size_t r = replicates.size();
   if (r >= 2 && total_sum > 0.0) {
     double residuals = 0.0;
     for (const auto& sums : replicates) {
-      const double d = pick(sums) - share * sums.total;
+      const double d = pick(sums) - share * total(sums);
       residuals += d * d;
     }
     const double mean_total = total_sum / static_cast<double>(r);
@@ -46,9 +56,14 @@ nlohmann::json share_of(const std::vector<PathClassTally::Sums>& replicates, Pic
   return entry;
 }
 
+template <class Pick>
+nlohmann::json share_of(const std::vector<PathClassTally::Sums>& replicates, Pick pick, const char* capability) {
+  return share_of(replicates, pick, [](const PathClassTally::Sums& s) { return s.total; }, capability);
+}
+
 nlohmann::json shares(const std::vector<PathClassTally::Sums>& replicates) {
-  double total = 0.0;
-  for (const auto& sums : replicates) total += sums.total;
+  double total = 0.0, blocked = 0.0;
+  for (const auto& sums : replicates) total += sums.total, blocked += sums.blocked;
   nlohmann::json out = {{"flux", replicates.empty() ? 0.0 : total / static_cast<double>(replicates.size())},
                         {"replicates", replicates.size()}};
   for (int k = 0; k < kPathInteractions; ++k) {
@@ -63,17 +78,35 @@ nlohmann::json shares(const std::vector<PathClassTally::Sums>& replicates) {
         share_of(replicates, [k](const PathClassTally::Sums& s) { return s.light[static_cast<size_t>(k)]; },
                  path_light_capability(light));
   }
+  for (int k = 0; k < kPathReceivers; ++k) {
+    const auto receiver = static_cast<PathReceiver>(k);
+    out["receiver"][path_receiver_name(receiver)] =
+        share_of(replicates, [k](const PathClassTally::Sums& s) { return s.receiver[static_cast<size_t>(k)]; },
+                 path_receiver_capability(receiver));
+  }
   for (int i = 0; i < kPathInteractions; ++i)
-    for (int k = 0; k < kPathLights; ++k) {
-      const auto interaction = static_cast<PathInteraction>(i);
-      const auto light = static_cast<PathLight>(k);
-      const size_t index = static_cast<size_t>(i * kPathLights + k);
-      nlohmann::json entry =
-          share_of(replicates, [index](const PathClassTally::Sums& s) { return s.joint[index]; }, "");
-      entry.erase("capability");
-      entry["capabilities"] = {path_interaction_capability(interaction), path_light_capability(light)};
-      out["joint"][std::string(path_interaction_name(interaction)) + "/" + path_light_name(light)] = entry;
-    }
+    for (int k = 0; k < kPathLights; ++k)
+      for (int r = 0; r < kPathReceivers; ++r) {
+        const auto interaction = static_cast<PathInteraction>(i);
+        const auto light = static_cast<PathLight>(k);
+        const auto receiver = static_cast<PathReceiver>(r);
+        const size_t index = static_cast<size_t>((i * kPathLights + k) * kPathReceivers + r);
+        nlohmann::json entry =
+            share_of(replicates, [index](const PathClassTally::Sums& s) { return s.joint[index]; }, "");
+        entry.erase("capability");
+        nlohmann::json capabilities = {path_interaction_capability(interaction), path_light_capability(light)};
+        if (*path_receiver_capability(receiver)) capabilities.push_back(path_receiver_capability(receiver));
+        entry["capabilities"] = capabilities;
+        out["joint"][std::string(path_interaction_name(interaction)) + "/" + path_light_name(light) + "/" +
+                     path_receiver_name(receiver)] = entry;
+      }
+  // The blocked light's share of the light that would arrive without occluders, and its ratio to the light
+  // that does arrive (the most a method without occlusion may put out beyond the reference).
+  nlohmann::json occlusion = share_of(
+      replicates, [](const PathClassTally::Sums& s) { return s.blocked; },
+      [](const PathClassTally::Sums& s) { return s.total + s.blocked; }, kOcclusionCapability);
+  occlusion["excess"] = total > 0.0 ? blocked / total : 0.0;
+  out["occlusion"] = occlusion;
   return out;
 }
 
@@ -83,7 +116,10 @@ nlohmann::json PathClassTally::to_json() const {
   return {{"definition", "share of the reference's caustic flux (luminance) in each light-path class: by "
                          "interaction (one_reflection: one reflection off an object's outside; one_pass: into one "
                          "refracting object and out with nothing between, or into an open surface's medium; "
-                         "multiple: everything else) and by the light's kind; in view: the photons credited to a "
+                         "multiple: everything else), by the light's kind and by the receiver (lambertian: diffuse; "
+                         "non_lambertian: glossy or diffuse_mirror); occlusion: the light occluders block between the "
+                         "light and a specular object or between it and a receiver behind the one it reaches, followed "
+                         "on as if they were not there; in view: the photons credited to a "
                          "receiver pixel; everywhere: every photon deposited on a receiver; standard_error from the "
                          "spread of the passes (core/path_classes.h)"},
           {"in_view", shares(in_view_)},

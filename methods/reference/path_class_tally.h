@@ -22,17 +22,24 @@ class PathClassTally {
   struct Sums {
     std::array<double, kPathInteractions> interaction{};
     std::array<double, kPathLights> light{};
-    std::array<double, kPathInteractions * kPathLights> joint{};  // interaction * kPathLights + light
+    std::array<double, kPathReceivers> receiver{};
+    // (interaction * kPathLights + light) * kPathReceivers + receiver
+    std::array<double, kPathInteractions * kPathLights * kPathReceivers> joint{};
     double total = 0.0;
+    double blocked = 0.0;  // the flux occluders took (CausticPhotonTracer::Blocked), not in `total`
   };
   // One replicate of `emitted` photons: `classes[i]` is photon i's PathClass::packed, `targets[i]` the
-  // measurement point the footprint tally credited it to (-1: not in view).
+  // measurement point the footprint tally credited it to (-1: not in view); the same for the blocked paths.
   void add_replicate(const std::vector<Photon>& photons, const std::vector<uint8_t>& classes,
-                     const std::vector<int32_t>& targets, uint64_t emitted);
+                     const std::vector<int32_t>& targets, const CausticPhotonTracer::Blocked& blocked,
+                     const std::vector<int32_t>& blocked_targets, uint64_t emitted);
   // {"definition", "in_view": {...}, "everywhere": {...}}; each holds "flux" (W, luminance, over the
-  // photons emitted), "replicates", and per interaction and per light class its "share", "standard_error"
-  // (null with fewer than two replicates) and the "capability" a method needs for it; "joint" the same per
-  // pair "interaction/light" (its "capabilities", both), from which a method's model share is summed.
+  // photons emitted), "replicates", and per interaction, light and receiver class its "share",
+  // "standard_error" (null with fewer than two replicates) and the "capability" a method needs for it
+  // ("" for none); "joint" the same per triple "interaction/light/receiver" (its "capabilities", those
+  // that are not ""), from which a method's model share is summed; "occlusion": the blocked flux's "share"
+  // of the light that would arrive without occluders (blocked / (arrived + blocked)) with its standard error,
+  // and "excess", blocked / arrived: how much more than the reference a method without occlusion may put out.
   nlohmann::json to_json() const;
 
  private:

@@ -35,9 +35,27 @@ std::vector<MemoryTerm> ReferenceMethod::knob_memory(const PrepareContext& conte
   const double stream = knobs.text("estimator") == "ppm" ? std::max(1.0, std::floor(per_pass / 2.0)) : per_pass;
   const double deposits = deposits_per_photon_bound(context, static_cast<uint64_t>(knobs.integer("seed")) * 2,
                                                     static_cast<int>(knobs.integer("max_bounces")));
-  return {MemoryTerm{{"photons_per_pass"}, stream * deposits * kBytesPerTracedPhoton,
-                     fmt::format("{:.3g} photons a stream x {:.2f} deposited each at most x {:.0f} bytes", stream,
-                                 deposits, kBytesPerTracedPhoton)}};
+  // The paths occluders block (the occlusion split, core/path_classes.h) are held beside them: counted on a
+  // pilot of 16,384 photons with a quarter's margin, as the deposits are.
+  constexpr uint64_t kPilot = 16384;
+  const CausticPhotonTracer pilot(context.tracer, PhotonTracerSettings{static_cast<uint64_t>(knobs.integer("seed")) * 2,
+                                                                       static_cast<int>(knobs.integer("max_bounces"))});
+  std::vector<Photon> photons;
+  std::vector<uint8_t> classes;
+  CausticPhotonTracer::Blocked blocked;
+  PhotonStats stats;
+  pilot.trace(0, kPilot, photons, stats, classes, &blocked);
+  const double blocked_each = 1.25 * static_cast<double>(blocked.photons.size()) / static_cast<double>(kPilot);
+  std::vector<MemoryTerm> terms = {
+      MemoryTerm{{"photons_per_pass"}, stream * deposits * kBytesPerTracedPhoton,
+                 fmt::format("{:.3g} photons a stream x {:.2f} deposited each at most x {:.0f} bytes", stream, deposits,
+                             kBytesPerTracedPhoton)}};
+  if (blocked_each > 0.0)
+    terms.push_back(MemoryTerm{{"photons_per_pass"}, stream * blocked_each * kBytesPerTracedPhoton,
+                               fmt::format("{:.3g} photons a stream x {:.2f} blocked paths each x {:.0f} bytes "
+                                           "(the occlusion split)",
+                                           stream, blocked_each, kBytesPerTracedPhoton)});
+  return terms;
 }
 
 void ReferenceMethod::update(const FrameContext& frame, const ParamSet& frame_knobs) {
@@ -111,6 +129,7 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   std::vector<Photon> photons;
   std::vector<uint8_t> classes;   // each photon's path class (core/path_classes.h)
   std::vector<int32_t> targets;   // each photon's point, -1 where not in view; released after each stream
+  CausticPhotonTracer::Blocked blocked;  // the paths occluders block, followed on (core/path_classes.h)
   PathClassTally path_classes;
   nlohmann::json history = nlohmann::json::array();
   Progress progress("reference", 1.0);
@@ -123,14 +142,19 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
     for (int h = 0; h < streams; ++h) {
       photons.clear();
       classes.clear();
+      blocked.photons.clear();
+      blocked.classes.clear();
       auto trace_start = std::chrono::steady_clock::now();
       photon_tracers[h].trace(static_cast<uint64_t>(pass) * photons_per_stream, photons_per_stream, photons, stats,
-                              classes);
+                              classes, &blocked);
       auto credit_start = std::chrono::steady_clock::now();
       trace_seconds += std::chrono::duration<double>(credit_start - trace_start).count();
       if (points.size() > 0) credited += tally.credit(points, *camera_, *tracer_, photons, &targets);
       tally.end_replicate(photons_per_stream);
-      path_classes.add_replicate(photons, classes, targets, photons_per_stream);
+      const std::vector<int32_t> blocked_targets =
+          points.size() > 0 ? FootprintTally::locate(points, *camera_, *tracer_, blocked.photons)
+                            : std::vector<int32_t>(blocked.photons.size(), -1);
+      path_classes.add_replicate(photons, classes, targets, blocked, blocked_targets, photons_per_stream);
       std::vector<int32_t>().swap(targets);  // not held while the next stream traces (knob_memory's bound)
       credit_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - credit_start).count();
       if (progressive) {

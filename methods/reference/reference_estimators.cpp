@@ -21,10 +21,11 @@ MeasurementPoints::MeasurementPoints(const GBuffer& gbuffer)
   }
 }
 
-uint64_t FootprintTally::credit(const MeasurementPoints& points, const CameraFrame& camera, const Tracer& tracer,
-                                const std::vector<Photon>& photons, std::vector<int32_t>* targets) {
+std::vector<int32_t> FootprintTally::locate(const MeasurementPoints& points, const CameraFrame& camera,
+                                            const Tracer& tracer, const std::vector<Photon>& photons,
+                                            std::vector<double>* pixels_per_area) {
   std::vector<int32_t> target(photons.size(), -1);
-  std::vector<double> weight(photons.size(), 0.0);
+  if (pixels_per_area) pixels_per_area->assign(photons.size(), 0.0);
   parallel_blocks(photons.size(), 2048, [&](size_t begin, size_t end, size_t) {
     for (size_t i = begin; i < end; ++i) {
       const Photon& photon = photons[i];
@@ -34,9 +35,16 @@ uint64_t FootprintTally::credit(const MeasurementPoints& points, const CameraFra
       int32_t point = points.point_of_pixel[static_cast<size_t>(image->y) * points.width + image->x];
       if (point < 0 || !camera_sees(*image, tracer, photon)) continue;
       target[i] = point;
-      weight[i] = image->pixels_per_area;
+      if (pixels_per_area) (*pixels_per_area)[i] = image->pixels_per_area;
     }
   });
+  return target;
+}
+
+uint64_t FootprintTally::credit(const MeasurementPoints& points, const CameraFrame& camera, const Tracer& tracer,
+                                const std::vector<Photon>& photons, std::vector<int32_t>* targets) {
+  std::vector<double> weight;
+  std::vector<int32_t> target = locate(points, camera, tracer, photons, &weight);
   uint64_t credited = 0;
   for (size_t i = 0; i < photons.size(); ++i) {
     if (target[i] < 0) continue;

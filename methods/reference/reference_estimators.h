@@ -47,6 +47,10 @@ class FootprintTally {
   // With `targets`, it receives each photon's point (-1: not credited).
   uint64_t credit(const MeasurementPoints& points, const CameraFrame& camera, const Tracer& tracer,
                   const std::vector<Photon>& photons, std::vector<int32_t>* targets = nullptr);
+  // Each photon's point as credit() finds it (-1: not in view), without crediting it: where light that an
+  // occluder blocked would have been seen (PathClassTally).
+  static std::vector<int32_t> locate(const MeasurementPoints& points, const CameraFrame& camera, const Tracer& tracer,
+                                     const std::vector<Photon>& photons, std::vector<double>* pixels_per_area = nullptr);
   // Ends the current replicate, of `emitted` photons (every photon credited since the last call).
   void end_replicate(uint64_t emitted);
   uint64_t emitted() const { return emitted_; }
