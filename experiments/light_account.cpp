@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include <fmt/format.h>
@@ -13,7 +14,7 @@
 namespace causticbench {
 
 std::optional<LightAccount> account_for_light(const nlohmann::json& reference_record, const Capabilities& capabilities,
-                                              double energy_ratio, double lost_fraction) {
+                                              double energy_ratio, double lost_fraction, double moved) {
   if (!reference_record.is_object() || !reference_record.contains("path_classes")) return std::nullopt;
   const nlohmann::json in_view = reference_record["path_classes"].value("in_view", nlohmann::json());
   if (!in_view.is_object() || in_view.value("flux", 0.0) <= 0.0 || !in_view.contains("joint")) return std::nullopt;
@@ -22,18 +23,22 @@ std::optional<LightAccount> account_for_light(const nlohmann::json& reference_re
   LightAccount account;
   account.energy = energy_ratio;
   account.lost = std::isfinite(lost_fraction) ? lost_fraction : 0.0;
+  account.moved = std::isfinite(moved) ? std::clamp(moved, 0.0, std::max(0.0, account.lost)) : 0.0;
   std::map<std::string, double> needs;
   for (const auto& [pair, entry] : in_view["joint"].items()) {
     const double share = entry.value("share", 0.0);
-    bool modelled = true;
+    bool modelled = true, light_kind = false;
     for (const nlohmann::json& capability : entry.value("capabilities", nlohmann::json::array())) {
       const std::string name = capability.get<std::string>();
       if (declared.count(name) && !declared[name]) {
         modelled = false;
         needs[name] += share;
+        for (int kind = 0; kind < kPathLights; ++kind)
+          light_kind = light_kind || name == path_light_capability(static_cast<PathLight>(kind));
       }
     }
     if (!modelled) account.model += share;
+    if (light_kind) account.substituted += share;
   }
   for (const auto& [name, share] : needs)
     if (share > 0.0) account.unmodelled.emplace_back(name, share);
@@ -48,7 +53,11 @@ std::optional<LightAccount> account_for_light(const nlohmann::json& reference_re
   // lost flux and the model share may name the same light (a method that cannot place the light it does
   // not model may count it lost): together they explain at most all of it.
   const double lost = std::clamp(account.lost, 0.0, 1.0);
-  const double lowest = 1.0 - std::min(1.0, lost + account.model), highest = 1.0 - lost + account.excess;
+  // A light of a kind the method does not model is replaced by one it models (a distant light for a point
+  // light), whose energy is not the reference's light's: beyond the tolerance, no upper bound.
+  const double lowest = 1.0 - std::min(1.0, lost + account.model);
+  const double highest = account.substituted > kUnexplainedLightTolerance ? std::numeric_limits<double>::infinity()
+                                                                          : 1.0 - (lost - account.moved) + account.excess;
   account.unexplained = account.energy < lowest    ? lowest - account.energy
                         : account.energy > highest ? highest - account.energy
                                                    : 0.0;
@@ -75,15 +84,19 @@ std::optional<LightAccount> account_for_record(const nlohmann::json& reference_r
   if (!energy || !std::isfinite(*energy) || run.empty_reference_frames) return std::nullopt;
   const std::optional<Capabilities> capabilities = declared_capabilities(run.method);
   if (!capabilities) return std::nullopt;
-  double lost = 0.0;
+  double lost = 0.0, moved = 0.0;
   if (run.lost_flux) {
-    size_t frames = 0;
-    double sum = 0.0;
-    for (double fraction : run.lost_flux->frames)
-      if (std::isfinite(fraction)) sum += fraction, ++frames;
-    lost = frames ? sum / static_cast<double>(frames) : run.lost_flux->worst.fraction;
+    auto mean = [](const std::vector<double>& values, double fallback) {
+      size_t frames = 0;
+      double sum = 0.0;
+      for (double value : values)
+        if (std::isfinite(value)) sum += value, ++frames;
+      return frames ? sum / static_cast<double>(frames) : fallback;
+    };
+    lost = mean(run.lost_flux->frames, run.lost_flux->worst.fraction);
+    moved = mean(run.lost_flux->moved_frames, run.lost_flux->moved_frames.empty() ? run.lost_flux->worst.moved : 0.0);
   }
-  return account_for_light(reference_record, *capabilities, *energy, lost);
+  return account_for_light(reference_record, *capabilities, *energy, lost, moved);
 }
 
 std::vector<FrameLightAccount> frame_accounts(const nlohmann::json& reference_record, const RunRecord& run) {
@@ -106,7 +119,11 @@ std::vector<FrameLightAccount> frame_accounts(const nlohmann::json& reference_re
     const double lost = run.lost_flux && i < run.lost_flux->frames.size() && std::isfinite(run.lost_flux->frames[i])
                             ? run.lost_flux->frames[i]
                             : 0.0;
-    if (std::optional<LightAccount> account = account_for_light(split, *capabilities, energy->second, lost))
+    const double moved = run.lost_flux && i < run.lost_flux->moved_frames.size() &&
+                                 std::isfinite(run.lost_flux->moved_frames[i])
+                             ? run.lost_flux->moved_frames[i]
+                             : 0.0;
+    if (std::optional<LightAccount> account = account_for_light(split, *capabilities, energy->second, lost, moved))
       accounts.push_back({frame.frame, *account});
   }
   return accounts;
@@ -123,6 +140,10 @@ std::string describe_light_account(const LightAccount& account) {
   if (account.model >= 0.0005)
     parts.push_back(fmt::format("does not model {:.1f} % of this scene's caustic in view ({})", 100.0 * account.model,
                                 unmodelled_text(account)));
+  if (account.substituted > kUnexplainedLightTolerance)
+    parts.push_back(fmt::format("replaces the {:.1f} % of a light kind it does not model with a light it models, "
+                                "whose energy is not bounded by the reference's",
+                                100.0 * account.substituted));
   if (account.excess >= 0.0005)
     parts.push_back(fmt::format("may add up to {:.1f} % that occluders block ({})", 100.0 * account.excess,
                                 kOcclusionCapability));

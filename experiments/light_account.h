@@ -5,10 +5,17 @@
 // The declarations and the lost flux account for an energy between
 //   lowest = 1 - min(1, lost + model)   (none of the unmodelled light delivered; lost and model may name the
 //                                        same light, so together they explain at most all of it) and
-//   highest = 1 - lost + excess         (a method that does not model a class may still put out an
+//   highest = 1 - (lost - moved) + excess
+//                                       (the lost flux's moved part may still land in view: LostFlux::moved;
+//                                        a method that does not model a class may still put out an
 //                                        approximation of its light: csl's cones on a mirror ring; and a
 //                                        method that does not model occlusion may add the light occluders
-//                                        block, `excess`, the reference's occlusion "excess"),
+//                                        block, `excess`, the reference's occlusion "excess"; without
+//                                        bound where more than the tolerance of the light is of a kind
+//                                        the method does not model: it runs such a scene with a light it
+//                                        models in its place, pinhole's, lpi's and prt's distant light for
+//                                        a point light, whose energy is that light's: 3.4 times the
+//                                        reference's on the point-light case),
 // and unexplained is the energy's distance outside that interval, signed: lowest - energy when below (light
 // missing), highest - energy when above (light in excess), 0 within.
 // A run whose unexplained part is beyond kUnexplainedLightTolerance is flagged. The tolerance is the
@@ -35,9 +42,13 @@ inline constexpr double kUnexplainedLightTolerance = kCapabilityEnergyTolerance;
 
 struct LightAccount {
   double energy = 0.0, lost = 0.0, model = 0.0, unexplained = 0.0;
+  double moved = 0.0;  // of `lost`, the light moved rather than dropped (LostFlux::moved)
   // The light occluders block in view, as a fraction of the reference's, where the method declares that it
   // does not model occlusion (0 otherwise): what it may put out beyond the reference.
   double excess = 0.0;
+  // The share of the reference's light in view of a light kind the method does not model (part of `model`):
+  // beyond kUnexplainedLightTolerance its energy is bounded below only (the substitute light's energy).
+  double substituted = 0.0;
   // The capabilities the method lacks that the scene's light needs, each with the share of the reference's
   // light in view that needs it (a path may need two), largest first.
   std::vector<std::pair<std::string, double>> unmodelled;
@@ -46,8 +57,9 @@ struct LightAccount {
 
 // The account, or nothing when the reference record has no joint split (computed before issue 52) or no
 // caustic flux in view.
+// `moved`: the part of `lost_fraction` the method moved rather than dropped (LostFlux::moved).
 std::optional<LightAccount> account_for_light(const nlohmann::json& reference_record, const Capabilities& capabilities,
-                                              double energy_ratio, double lost_fraction);
+                                              double energy_ratio, double lost_fraction, double moved = 0.0);
 
 // The account of a stored run against its reference's record.json: the method as this build registers it,
 // the energy ratio measured, the lost flux as the mean over the frames that report one. Nothing when the run

@@ -40,7 +40,9 @@ std::optional<BrokenKnobRule> broken_knob_rule(const MethodInfo& info, const Par
 }
 
 nlohmann::json lost_flux_json(const LostFlux& lost) {
-  return {{"fraction", lost.fraction}, {"what", lost.what}, {"knob", lost.knob}, {"advice", lost.advice}};
+  nlohmann::json out = {{"fraction", lost.fraction}, {"what", lost.what}, {"knob", lost.knob}, {"advice", lost.advice}};
+  if (lost.moved != 0.0) out["moved"] = lost.moved;
+  return out;
 }
 
 void require_specular_object(const Scene& scene, const std::string& needs) {

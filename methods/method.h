@@ -114,11 +114,15 @@ struct LostFlux {
   std::string what;       // "caustic flux whose first receiver hit lies outside the sampled ball"
   std::string knob;       // the knob that would recover it ("volume_radius")
   std::string advice;     // how ("set volume_radius: auto, or at least 4.2")
+  // Of `fraction`, the light the configuration moves rather than drops (csl's spot lights carry it, but
+  // their point focus sends it elsewhere): it may still land in view, so the light account takes it as
+  // possibly delivered (experiments/light_account.h). 0 for the light a method drops.
+  double moved = 0.0;
 };
 inline constexpr double kLostFluxWarning = 0.05;
 // "loses 12.3 % of the caustic flux (<what>); <advice>" for warnings and reports.
 std::string describe_lost_flux(const LostFlux& lost);
-// {"fraction", "what", "knob", "advice"}: how `render` and the run record write it.
+// {"fraction", "what", "knob", "advice"} and "moved" where it is not 0: how `render` and the run record write it.
 nlohmann::json lost_flux_json(const LostFlux& lost);
 
 // What prepare() works from: the scene, its rest pose (frame 0) with a ray tracer over it (to trace

@@ -30,7 +30,8 @@ std::string results_json(const Report& report) {
                           {"unexplained", frame.account.unexplained},
                           {"flagged", frame.account.flagged}});
       record["light_account"] = {{"energy", account->energy}, {"lost", account->lost}, {"model", account->model},
-                                 {"excess", account->excess}, {"unexplained", account->unexplained}, {"flagged", account->flagged},
+                                 {"excess", account->excess}, {"substituted", account->substituted},
+                                 {"unexplained", account->unexplained}, {"flagged", account->flagged},
                                  {"unmodelled", unmodelled}, {"frames", frames}};
     }
     runs.push_back(record);

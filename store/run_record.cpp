@@ -178,9 +178,15 @@ std::optional<LostFluxRecord> lost_flux_record(const std::vector<std::optional<L
   for (const std::optional<LostFlux>& frame : frames)
     if (frame && (!worst || frame->fraction > (*worst)->fraction)) worst = &frame;
   if (!worst) return std::nullopt;
-  LostFluxRecord record{**worst, {}};
-  for (const std::optional<LostFlux>& frame : frames)
+  LostFluxRecord record{**worst, {}, {}};
+  bool moved = false;
+  for (const std::optional<LostFlux>& frame : frames) {
     record.frames.push_back(frame ? frame->fraction : std::numeric_limits<double>::quiet_NaN());
+    moved = moved || (frame && frame->moved != 0.0);
+  }
+  if (moved)
+    for (const std::optional<LostFlux>& frame : frames)
+      record.moved_frames.push_back(frame ? frame->moved : std::numeric_limits<double>::quiet_NaN());
   return record;
 }
 
@@ -328,8 +334,9 @@ RunRecord RunRecord::from_json(const json& original) {
   if (in.has("lost_flux")) {
     FieldReader lost(in.object("lost_flux"), "lost_flux");
     record.lost_flux = LostFluxRecord{
-        LostFlux{lost.number("fraction"), lost.string_or("what", ""), lost.string_or("knob", ""), lost.string_or("advice", "")},
-        lost.numbers_or_empty("frames")};
+        LostFlux{lost.number("fraction"), lost.string_or("what", ""), lost.string_or("knob", ""),
+                 lost.string_or("advice", ""), lost.number_or("moved", 0.0)},
+        lost.numbers_or_empty("frames"), lost.numbers_or_empty("moved_frames")};
   }
   record.images = in.any_or_null("images");
   record.reference_images = in.any_or_null("reference_images");
@@ -390,6 +397,11 @@ json RunRecord::to_json() const {
     for (double value : lost_flux->frames) frames_json.push_back(std::isfinite(value) ? json(value) : json());
     out["lost_flux"] = lost_flux_json(lost_flux->worst);
     out["lost_flux"]["frames"] = frames_json;
+    if (!lost_flux->moved_frames.empty()) {
+      json moved_json = json::array();
+      for (double value : lost_flux->moved_frames) moved_json.push_back(std::isfinite(value) ? json(value) : json());
+      out["lost_flux"]["moved_frames"] = moved_json;
+    }
   }
   if (!images.is_null()) out["images"] = images;
   if (!reference_images.is_null()) out["reference_images"] = reference_images;

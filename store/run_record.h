@@ -61,6 +61,7 @@ struct PrepareRecord {
 struct LostFluxRecord {
   LostFlux worst;
   std::vector<double> frames;
+  std::vector<double> moved_frames;  // each frame's LostFlux::moved (empty: none moved any, or an older record)
 };
 
 // The record of the lost flux of a run's frames (CausticMethod::lost_flux per frame); none when no frame

@@ -161,3 +161,53 @@ TEST(LightAccount, AMethodWithoutOcclusionMayAddTheLightOccludersBlock) {
   split["path_classes"]["in_view"].erase("occlusion");
   EXPECT_TRUE(account_for_light(split, without, 1.39, 0.0)->flagged);
 }
+
+// A light of a kind the method does not model (issue 52): pinhole, lpi and prt run the point-light case with
+// a distant light in its place and put out 3.4 times the reference's energy there (tests/test_capabilities.cpp
+// prints it). That energy is the substitute's, so beyond the tolerance the account bounds it below only; a
+// sliver of such light (0.1 of it, below the tolerance) explains no excess of 0.5.
+TEST(LightAccount, ALightKindTheMethodDoesNotModelLeavesItsEnergyUnboundedAbove) {
+  auto split_with_point_share = [](double point) {
+    nlohmann::json joint = {{"one_reflection/point/lambertian",
+                             {{"share", point}, {"capabilities", {"reflection", "point_light"}}}}};
+    if (point < 1.0)
+      joint["one_reflection/directional/lambertian"] = {{"share", 1.0 - point},
+                                                        {"capabilities", {"reflection", "directional_light"}}};
+    return nlohmann::json{{"path_classes", {{"in_view", {{"flux", 1.0}, {"joint", joint}}}}}};
+  };
+  Capabilities distant_only;
+  distant_only.reflection = distant_only.directional_light = true;
+  const std::optional<LightAccount> substitute = account_for_light(split_with_point_share(1.0), distant_only, 3.4, 0.0);
+  ASSERT_TRUE(substitute);
+  EXPECT_DOUBLE_EQ(substitute->substituted, 1.0);
+  EXPECT_DOUBLE_EQ(substitute->unexplained, 0.0);
+  EXPECT_FALSE(substitute->flagged);
+  EXPECT_NE(describe_light_account(*substitute).find("replaces the 100.0 %"), std::string::npos);
+  const std::optional<LightAccount> sliver = account_for_light(split_with_point_share(0.1), distant_only, 1.5, 0.0);
+  ASSERT_TRUE(sliver);
+  EXPECT_NEAR(sliver->unexplained, -0.5, 1e-12);
+  EXPECT_TRUE(sliver->flagged);
+  Capabilities point_too = distant_only;
+  point_too.point_light = true;
+  EXPECT_TRUE(account_for_light(split_with_point_share(1.0), point_too, 3.4, 0.0)->flagged);
+}
+
+// Moved light (LostFlux::moved, issue 52): csl's point-focus spot lights move a torus's ring of light rather
+// than drop it, so it may still land in view. Of a lost flux of 0.6, 0.55 moved: an energy of 0.95 is within
+// the account (the moved light delivered in view after all), but in excess by 0.55 if all 0.6 were dropped.
+TEST(LightAccount, MovedLightMayStillBeDelivered) {
+  const nlohmann::json split = {
+      {"path_classes",
+       {{"in_view",
+         {{"flux", 1.0},
+          {"joint", {{"one_pass/directional/lambertian", {{"share", 1.0}, {"capabilities", {"refraction", "directional_light"}}}}}}}}}}};
+  Capabilities glass;
+  glass.refraction = glass.directional_light = true;
+  const std::optional<LightAccount> moved = account_for_light(split, glass, 0.95, 0.6, 0.55);
+  ASSERT_TRUE(moved);
+  EXPECT_DOUBLE_EQ(moved->unexplained, 0.0);
+  EXPECT_FALSE(moved->flagged);
+  EXPECT_NEAR(account_for_light(split, glass, 0.95, 0.6, 0.0)->unexplained, -0.55, 1e-12);
+  EXPECT_TRUE(account_for_light(split, glass, 0.95, 0.6, 0.0)->flagged);
+  EXPECT_NEAR(account_for_light(split, glass, 0.2, 0.6, 0.55)->unexplained, 0.2, 1e-12) << "below 1 - lost";
+}

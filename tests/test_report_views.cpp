@@ -108,6 +108,16 @@ TEST(RunRecord, WritesAndReadsEveryField) {
   EXPECT_EQ(*losing_back.quantity("lost_flux"), 0.3);
   EXPECT_EQ(losing_back.lost_flux->worst.knob, "volume_radius");
   EXPECT_FALSE(full_record().quantity("lost_flux")) << "a method that counts none";
+  EXPECT_FALSE(losing_json["lost_flux"].contains("moved_frames")) << "no frame moved light";
+  // Moved light (csl's misdirected rays): each frame's moved part, and the worst frame's, round trip.
+  RunRecord moving = full_record();
+  moving.lost_flux = lost_flux_record({LostFlux{0.6, "a", "angle_threshold", "x", 0.55}, LostFlux{0.1, "b", "k", "y"}});
+  const json moving_json = moving.to_json();
+  EXPECT_EQ(moving_json["lost_flux"]["moved_frames"], json({0.55, 0.0}));
+  EXPECT_EQ(moving_json["lost_flux"]["moved"], 0.55);
+  const RunRecord moving_back = RunRecord::from_json(json::parse(moving_json.dump()));
+  EXPECT_EQ(moving_back.to_json(), moving_json);
+  EXPECT_EQ(moving_back.lost_flux->worst.moved, 0.55);
   // A failed run keeps only its identity.
   RunRecord failed = full_record();
   failed.status = "failed";

@@ -11,9 +11,9 @@ namespace causticbench::csl {
 
 namespace {
 
-// 2: Fit::failed (issue 30). A build of format 1 is unreadable to this version: the build cache computes it
-// again, with its warning.
-constexpr char kFormat[] = "causticbench csl build 2";
+// 2: Fit::failed (issue 30). 3: SpotLightSet::misdirected_energy (issue 52). A build of an earlier format is
+// unreadable to this version: the build cache computes it again, with its warning.
+constexpr char kFormat[] = "causticbench csl build 3";
 
 // Writes into the stream of the store's atomic write (core/files.h, write_stream_atomically), which checks
 // it and names the OS error of a failed write.
@@ -117,6 +117,7 @@ void write_set(Writer& out, const SpotLightSet& set) {
   out.value(set.direction);
   out.value(set.ray_energy);
   out.value(set.covered_energy);
+  out.value(set.misdirected_energy);
   out.value<int32_t>(set.rays);
   out.value<int32_t>(set.seeds_tried);
   out.value(set.trace_seconds);
@@ -132,6 +133,7 @@ SpotLightSet read_set(Reader& in) {
   set.direction = in.value<Vec3>();
   set.ray_energy = in.value<double>();
   set.covered_energy = in.value<double>();
+  set.misdirected_energy = in.value<double>();
   set.rays = in.value<int32_t>();
   set.seeds_tried = in.value<int32_t>();
   set.trace_seconds = in.value<double>();

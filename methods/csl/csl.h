@@ -64,7 +64,7 @@ class CslMethod : public CausticMethod, public BuildCache, public GpuBackend {
     Color irradiance{0.0f};
     // The caustic rays' energy of the set read (per unit light irradiance) and the part of it its spot
     // lights cover; interpolated: the corners' blended with the interpolation's weights (lost_flux).
-    double ray_energy = 0.0, covered_energy = 0.0;
+    double ray_energy = 0.0, covered_energy = 0.0, misdirected_energy = 0.0;
   };
   struct ObjectFrame {
     BuildSpaceMap map;

@@ -41,6 +41,7 @@ nlohmann::json SpotLightSet::to_json() const {
           {"ray_energy", ray_energy},
           {"covered_energy", covered_energy},
           {"coverage", ray_energy > 0.0 ? covered_energy / ray_energy : 0.0},
+          {"misdirected_energy", misdirected_energy},
           {"seeds_tried", seeds_tried},
           {"trace_seconds", trace_seconds},
           {"cluster_seconds", cluster_seconds},
@@ -86,23 +87,24 @@ SpotLightSet generate_spot_lights(const ObjectRays& object_rays, const BoundingS
     // its plane within the square holding all but the outermost half percent of their energy (a ray
     // nearly parallel to the plane crosses it far out, where it would only stretch the image and
     // coarsen its texels). The others stay in the pool for a bundle of another axis.
-    std::vector<std::pair<double, uint32_t>> fitting;  // (square radius on the plane, ray)
+    std::vector<std::tuple<double, uint32_t, double>> fitting;  // (square radius on the plane, ray, chord)
     double fitting_energy = 0.0;
     for (uint32_t index : bundle.members) {
       const RayOnPlane on = ray_on_plane(rays[index], bundle.axis, fit.ell, fit.profile);
       if (!on.valid || !(on.chord <= settings.fit_tolerance)) continue;
       const glm::dvec3 from = on.p - fit.origin;
       fitting.emplace_back(std::max(std::fabs(glm::dot(from, glm::dvec3(light.u))), std::fabs(glm::dot(from, glm::dvec3(light.v)))),
-                           index);
+                           index, on.chord);
       fitting_energy += rays[index].weight;
     }
     std::sort(fitting.begin(), fitting.end());
     std::vector<uint32_t> kept;
-    double energy = 0.0;
-    for (const auto& [extent, index] : fitting) {
+    double energy = 0.0, misdirected = 0.0;
+    for (const auto& [extent, index, chord] : fitting) {
       if (energy > 0.995 * fitting_energy) break;
       kept.push_back(index);
       energy += rays[index].weight;
+      if (chord > kMisdirectedChord) misdirected += rays[index].weight;
     }
     std::sort(kept.begin(), kept.end());
     if (kept.empty()) {
@@ -118,6 +120,7 @@ SpotLightSet generate_spot_lights(const ObjectRays& object_rays, const BoundingS
     }
     remaining -= energy;
     set.covered_energy += energy;
+    set.misdirected_energy += misdirected;
     SpotLightRecord record;
     record.bundle_rays = static_cast<int>(bundle.members.size());
     record.kept_rays = static_cast<int>(kept.size());
