@@ -76,23 +76,33 @@ CausticPhotonTracer::CausticPhotonTracer(const Tracer& tracer, PhotonTracerSetti
   for (const LightFrame& light : lights_) {
     if (!light.light) throw std::invalid_argument("CausticPhotonTracer: a light frame points at no light");
   }
-  // Each receiver's world box: its analytic bounds' corners or its world mesh, posed.
-  for (size_t object = 0; object < frame.scene->objects.size() && object < frame.transforms.size(); ++object) {
-    const SceneObject& described = frame.scene->objects[object];
-    if (!described.material.receives_caustics()) continue;
-    Receiver receiver{static_cast<int>(object), Vec3(std::numeric_limits<float>::max()),
-                      Vec3(-std::numeric_limits<float>::max())};
-    auto include = [&](const Vec3& p) { receiver.lower = glm::min(receiver.lower, p), receiver.upper = glm::max(receiver.upper, p); };
+  // Each receiver's and each target's world box (Blocked): its analytic bounds' corners or its world mesh,
+  // posed; an object with no geometry has none.
+  auto box_of = [&frame](int object) {
+    WorldBox box{object, Vec3(std::numeric_limits<float>::max()), Vec3(-std::numeric_limits<float>::max())};
+    auto include = [&](const Vec3& p) { box.lower = glm::min(box.lower, p), box.upper = glm::max(box.upper, p); };
+    const SceneObject& described = frame.scene->objects[static_cast<size_t>(object)];
     if (described.shape.is_analytic()) {
       glm::dvec3 lower, upper;
       analytic_bounds(described.shape, lower, upper);
       for (int corner = 0; corner < 8; ++corner)
-        include(frame.transforms[object].point(Vec3((corner & 1) ? upper.x : lower.x, (corner & 2) ? upper.y : lower.y,
-                                                    (corner & 4) ? upper.z : lower.z)));
-    } else if (object < frame.world_meshes.size()) {
-      for (const Vec3& p : frame.world_meshes[object].positions) include(p);
+        include(frame.transforms[static_cast<size_t>(object)].point(
+            Vec3((corner & 1) ? upper.x : lower.x, (corner & 2) ? upper.y : lower.y, (corner & 4) ? upper.z : lower.z)));
+    } else if (static_cast<size_t>(object) < frame.world_meshes.size()) {
+      for (const Vec3& p : frame.world_meshes[static_cast<size_t>(object)].positions) include(p);
     }
-    receivers_.push_back(receiver);
+    return box;
+  };
+  auto has_volume = [](const WorldBox& box) { return glm::all(glm::lessThanEqual(box.lower, box.upper)); };
+  for (size_t object = 0; object < frame.scene->objects.size() && object < frame.transforms.size(); ++object) {
+    if (!frame.scene->objects[object].material.receives_caustics()) continue;
+    const WorldBox box = box_of(static_cast<int>(object));
+    if (has_volume(box)) receivers_.push_back(box);
+  }
+  for (int object : target_objects) {
+    if (static_cast<size_t>(object) >= frame.transforms.size()) continue;
+    const WorldBox box = box_of(object);
+    if (has_volume(box)) target_boxes_.push_back(box);
   }
   // Choose lights in proportion to the flux they aim at the targets (estimated from luminance).
   std::vector<double> weights;
@@ -362,7 +372,7 @@ void CausticPhotonTracer::follow_through_receivers(const SurfaceHit& hit, const 
   // Only where a receiver's box lies ahead (the one just reached counts unless it is a quad or a disk, which
   // a straight line leaves for good): a floor under glass, or beside a wall standing on it, costs no ray.
   bool ahead = false;
-  for (const Receiver& receiver : receivers_) {
+  for (const WorldBox& receiver : receivers_) {
     const ShapeKind kind = scene.objects[receiver.object].shape.kind;
     if (receiver.object == hit.object && (kind == ShapeKind::quad || kind == ShapeKind::disk)) continue;
     if ((ahead = meets_box_ahead(receiver, hit.position, direction))) break;
@@ -397,9 +407,9 @@ bool CausticPhotonTracer::meets_sphere_ahead(const BoundingSphere& sphere, const
   return miss2 <= r2 && along + std::sqrt((r2 - miss2) / length2) > 0.0f;
 }
 
-bool CausticPhotonTracer::meets_box_ahead(const Receiver& box, const Vec3& origin, const Vec3& direction) {
-  // Slabs: the line's interval inside the box, which must reach beyond the spawn offset ahead. A grazing or
-  // axis-parallel line divides by zero into +-infinity, which the comparisons take as they should.
+bool CausticPhotonTracer::meets_box_ahead(const WorldBox& box, const Vec3& origin, const Vec3& direction) {
+  // Slabs: the line's interval inside the box, which must reach beyond the spawn offset ahead; an
+  // axis-parallel line is inside the slab of that axis or misses the box.
   float near = -std::numeric_limits<float>::infinity(), far = std::numeric_limits<float>::infinity();
   for (int axis = 0; axis < 3; ++axis) {
     if (direction[axis] == 0.0f) {
@@ -414,15 +424,23 @@ bool CausticPhotonTracer::meets_box_ahead(const Receiver& box, const Vec3& origi
   return near <= far && far > 1e-4f * (1.0f + glm::length(origin)) / glm::length(direction);
 }
 
+// The targets' world boxes rather than their bounding spheres, which reach through the floor an object
+// stands on: a photon aimed at a ring that misses it and meets the floor inside the ring's sphere would be
+// followed on below the floor, a ray for nothing.
 bool CausticPhotonTracer::heads_for_a_target(const Vec3& origin, const Vec3& direction) const {
-  for (const BoundingSphere& target : targets_)
-    if (meets_sphere_ahead(target, origin, direction)) return true;
+  for (const WorldBox& target : target_boxes_)
+    if (meets_box_ahead(target, origin, direction)) return true;
   return false;
 }
 
+bool CausticPhotonTracer::is_closed(const ShapeDesc& shape) {
+  // Solids, whose inside faces no receiver is seen by: a blocked path passes through them.
+  return shape.kind == ShapeKind::sphere || shape.kind == ShapeKind::box || shape.kind == ShapeKind::prism ||
+         shape.kind == ShapeKind::torus || (shape.kind == ShapeKind::ring && shape.thickness > 0.0);
+}
+
 bool CausticPhotonTracer::records_blocked_on(const SurfaceHit& hit, const Vec3& direction) const {
-  const ShapeKind kind = tracer_.frame().scene->objects[hit.object].shape.kind;
-  return kind == ShapeKind::quad || kind == ShapeKind::disk || glm::dot(direction, hit.geometric_normal) < 0.0f;
+  return !is_closed(tracer_.frame().scene->objects[hit.object].shape) || glm::dot(direction, hit.geometric_normal) < 0.0f;
 }
 
 void CausticPhotonTracer::trace_emitted(uint64_t index, const Ray& ray, const Color& power, RayDifferential differential,

@@ -105,14 +105,14 @@ class CausticPhotonTracer {
   void trace(uint64_t first, uint64_t count, std::vector<Photon>& photons, PhotonStats& stats) const;
   // The same, and each photon's path class (core/path_classes.h, PathClass::packed) appended to `classes`,
   // one per photon, in the same order. (An overload, not a defaulted parameter: plugins built against the
-  // SDK link the four-argument trace.)
+  // SDK link the four-argument trace; `blocked`, new in SDK version 3, is defaulted.)
   // With `blocked`, also the paths an occluder blocks (core/path_classes.h, occlusion), each followed on
   // through the blocking surface as if it were not there and recorded where it would have arrived, with its
   // class (PathClass::blocked set). Two kinds: a path blocked on its way from the light to its first
-  // specular object (followed while it still heads for a target's bounding sphere; recorded at its first
-  // receiver met from the front, then ended), and a photon that reached a receiver, continued straight
-  // through it (recorded at every further receiver it meets from the front, or on either side of a quad or
-  // disk, up to max_bounces surfaces; ended at a specular object). The second kind is traced only where the
+  // specular object (followed while it still heads for a target's world box; recorded at its first
+  // receiver met from the front of a solid or either side of an open surface, then ended), and a photon that
+  // reached a receiver, continued straight through it (recorded at every further receiver it meets so, up to
+  // max_bounces surfaces; ended at a specular object). The second kind is traced only where the
   // box of a receiver lies ahead (the one reached left out if it is a quad or a disk), so that a floor under
   // glass costs no ray. Blocked paths draw only their own photon's random numbers:
   // the photons that arrive are the same with or without `blocked`.
@@ -156,13 +156,15 @@ class CausticPhotonTracer {
   // blocked path above).
   void follow_through_receivers(const SurfaceHit& hit, const Vec3& direction, const Color& power, PathClass path,
                                 PhotonStats& stats, const BlockedVisit& on_blocked) const;
-  // Whether a ray from `origin` along `direction` still meets a target's bounding sphere ahead.
+  // Whether a ray from `origin` along `direction` still meets a target's world box ahead.
   bool heads_for_a_target(const Vec3& origin, const Vec3& direction) const;
   static bool meets_sphere_ahead(const BoundingSphere& sphere, const Vec3& origin, const Vec3& direction);
-  struct Receiver;
-  static bool meets_box_ahead(const Receiver& box, const Vec3& origin, const Vec3& direction);
-  // Whether a blocked path is recorded on `object` met along `direction` at `hit`: from the front, or either
-  // side of a two-sided shape (quad, disk).
+  struct WorldBox;
+  static bool meets_box_ahead(const WorldBox& box, const Vec3& origin, const Vec3& direction);
+  // A solid (sphere, box, prism, torus, a ring with a wall): its inside faces are passed through.
+  static bool is_closed(const ShapeDesc& shape);
+  // Whether a blocked path is recorded at `hit` met along `direction`: from the front of a solid, or either
+  // side of an open surface (quad, disk, a thin ring, cup, paraboloid, water, mesh).
   bool records_blocked_on(const SurfaceHit& hit, const Vec3& direction) const;
   // Draws an emission: its ray, its power and the kind of light it left.
   bool emit(EmissionDraws& draws, Ray& ray, Color& power, PathLight& light) const;
@@ -178,12 +180,13 @@ class CausticPhotonTracer {
   std::vector<LightFrame> lights_;
   std::vector<BoundingSphere> targets_;
   double target_area_ = 0.0;  // sum of the spheres' cross-sections
-  // The objects that receive caustics, each with its world box (Blocked: what may stand behind a receiver).
-  struct Receiver {
+  // An object's world box (Blocked): the receivers' (what may stand behind a receiver) and the targets'
+  // (what a blocked path still heads for).
+  struct WorldBox {
     int object = 0;
     Vec3 lower, upper;
   };
-  std::vector<Receiver> receivers_;
+  std::vector<WorldBox> receivers_, target_boxes_;
   Distribution1D light_choice_;
   double total_weight_ = 0.0;
 };

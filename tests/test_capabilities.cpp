@@ -306,7 +306,9 @@ TEST_P(CapabilityConformance, DeclarationMatchesMeasurement) {
   // Issue 52: the light account closes on every case whose capability the reference's split measures (the
   // path classes, the receiver and occlusion; motion takes the same paths and has no class): the method's
   // energy lies within what its declarations, its lost flux and the case's split account for, to the
-  // account's tolerance, whatever it declares.
+  // account's tolerance, whatever it declares. On a light kind's case a method that declares the kind false
+  // has no upper bound (it runs the case with a light it models in its place: LightAccount::substituted),
+  // so there the assertion holds whatever its energy; it bites on every other pair.
   if (m.account && capability != "moving_light" && capability != "moving_objects") {
     std::printf("  light account: %s\n", describe_light_account(*m.account).c_str());
     EXPECT_FALSE(m.account->flagged) << "the light account does not close: " << describe_light_account(*m.account)

@@ -37,8 +37,9 @@ class PathClassTally {
   // photons emitted), "replicates", and per interaction, light and receiver class its "share",
   // "standard_error" (null with fewer than two replicates) and the "capability" a method needs for it
   // ("" for none); "joint" the same per triple "interaction/light/receiver" (its "capabilities", those
-  // that are not ""), from which a method's model share is summed; "occlusion": the blocked flux's "share"
-  // of the light that would arrive without occluders (blocked / (arrived + blocked)) with its standard error,
+  // that are not ""), from which a method's model share is summed; "occlusion": the blocked flux's "share",
+  // blocked / (arrived + blocked), with its standard error (arrived counts the light on an occluder too, so
+  // a receiver that blocks the light behind it adds to both),
   // and "excess", blocked / arrived: how much more than the reference a method without occlusion may put out.
   nlohmann::json to_json() const;
 

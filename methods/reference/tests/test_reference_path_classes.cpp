@@ -2,12 +2,16 @@
 // (core/path_classes.h, methods/reference/path_class_tally.h) against scenes whose answer is known in
 // closed form. Fixed seeds; each tolerance states its reason.
 #include <cmath>
+#include <cstring>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "core/optics.h"
+#include "core/photon_tracer.h"
+#include "core/tracer.h"
 #include "core/path_classes.h"
 #include "core/image_statistics.h"
 #include "core/scene.h"
@@ -215,6 +219,43 @@ TEST(ReferencePathClasses, AnOccluderAcrossTheBeamBlocksTheShareOfTheBeamItCover
   EXPECT_DOUBLE_EQ(open.method_record.at("path_classes").at("everywhere").at("occlusion").at("share").get<double>(), 0.0);
 }
 
+// Following blocked paths changes nothing of the light that arrives: the same photons, bit for bit, with
+// the same classes and counts (but the rays traced), whether the tracer follows them or not, on scenes with
+// both kinds of blocked path (a plate above and under a slab, a wall beside a ball's caustic), under
+// stratified emission as the reference traces.
+TEST(ReferencePathClasses, FollowingBlockedPathsLeavesTheArrivingPhotonsBitIdentical) {
+  const std::vector<Scene> scenes = {
+      scene_from_yaml(kGlassSlab + "  - shape: {type: quad, size: [0.6, 1.4]}\n    material: {type: diffuse}\n"
+                                   "    transform: {translate: [0.3, 1.0, 0]}\n"),
+      scene_from_yaml(kGlassSlab + "  - shape: {type: quad, size: [0.6, 1.4]}\n    material: {type: diffuse}\n"
+                                   "    transform: {translate: [0.3, 0.3, 0]}\n"),
+      load_scene(causticbench::testing::shipped_scenes() + "/glass_sphere_wall.yaml")};
+  for (const Scene& scene : scenes) {
+    SceneFrame frame(scene, 0);
+    Tracer tracer(frame);
+    PhotonTracerSettings settings{11};
+    settings.stratified_pass_size = 50000;
+    const CausticPhotonTracer photon_tracer(tracer, settings);
+    std::vector<Photon> plain, followed;
+    std::vector<uint8_t> plain_classes, followed_classes;
+    PhotonStats plain_stats, followed_stats;
+    CausticPhotonTracer::Blocked blocked;
+    photon_tracer.trace(0, 100000, plain, plain_stats, plain_classes);
+    photon_tracer.trace(0, 100000, followed, followed_stats, followed_classes, &blocked);
+    ASSERT_GT(plain.size(), 1000u);
+    EXPECT_GT(blocked.photons.size(), 100u) << "the scene has blocked paths to follow";
+    EXPECT_EQ(blocked.photons.size(), blocked.classes.size());
+    ASSERT_EQ(plain.size(), followed.size());
+    EXPECT_EQ(0, std::memcmp(plain.data(), followed.data(), plain.size() * sizeof(Photon)));
+    EXPECT_EQ(plain_classes, followed_classes);
+    EXPECT_EQ(plain_stats.emitted, followed_stats.emitted);
+    EXPECT_EQ(plain_stats.deposited, followed_stats.deposited);
+    EXPECT_EQ(plain_stats.cut, followed_stats.cut);
+    EXPECT_GT(followed_stats.rays, plain_stats.rays);
+    for (uint8_t byte : blocked.classes) EXPECT_TRUE(PathClass::unpack(byte).blocked);
+  }
+}
+
 // A glossy floor is a non-Lambertian receiver: all the light of the receiver case lands on one, none of
 // its twin's (a diffuse floor).
 TEST(ReferencePathClasses, AGlossyFloorIsANonLambertianReceiver) {
@@ -250,7 +291,7 @@ TEST(ReferencePathClasses, EachCapabilityCaseIsMostlyLightThatNeedsItsCapability
   }
   const FrameResult occluded = reference_of(capability_case("occlusion"), 1);
   const double excess = occluded.method_record.at("path_classes").at("in_view").at("occlusion").at("excess").get<double>();
-  std::printf("occlusion case: occluders block %.4f of the light in view\n", excess);
+  std::printf("occlusion case: occluders block %.4f of the light that arrives in view (excess)\n", excess);
   EXPECT_GT(excess, tolerance);
   const FrameResult open = reference_of(capability_case("occlusion_without"), 1);
   EXPECT_DOUBLE_EQ(open.method_record.at("path_classes").at("in_view").at("occlusion").at("excess").get<double>(), 0.0);
