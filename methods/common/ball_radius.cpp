@@ -35,6 +35,20 @@ CausticReach frame_reach(const SceneFrame& frame, const Tracer& tracer, int obje
   return probe_caustic_reach(frame, tracer, object, map, build_bounds, kProbePhotons, kProbeSeed);
 }
 
+std::vector<CausticReach> probe_frames(const PrepareContext& context, int object, const BoundingSphere& build_bounds) {
+  std::vector<CausticReach> reaches;
+  for (int index : probed_frames(context.frames)) {
+    if (index == static_cast<int>(context.rest.frame)) {
+      reaches.push_back(frame_reach(context.rest, context.tracer, object, build_bounds));
+      continue;
+    }
+    const SceneFrame posed(context.scene, index);
+    const Tracer tracer(posed);
+    reaches.push_back(frame_reach(posed, tracer, object, build_bounds));
+  }
+  return reaches;
+}
+
 BallRadius choose_ball_radius(const PrepareContext& context, int object, const BoundingSphere& build_bounds,
                               double requested, double cells_across) {
   BallRadius chosen;
@@ -46,22 +60,11 @@ BallRadius choose_ball_radius(const PrepareContext& context, int object, const B
   double needed = 0.0;
   int frames_with_caustic = 0;
   std::vector<CausticReach> reaches;
-  for (int index : probed_frames(context.frames)) {
-    std::unique_ptr<SceneFrame> posed;
-    std::unique_ptr<Tracer> own_tracer;
-    const SceneFrame* frame = &context.rest;
-    const Tracer* tracer = &context.tracer;
-    if (index != static_cast<int>(context.rest.frame)) {
-      posed = std::make_unique<SceneFrame>(context.scene, index);
-      own_tracer = std::make_unique<Tracer>(*posed);
-      frame = posed.get();
-      tracer = own_tracer.get();
-    }
-    const CausticReach reach = frame_reach(*frame, *tracer, object, build_bounds);
+  for (CausticReach& reach : probe_frames(context, object, build_bounds)) {
     if (!(reach.total_flux > 0.0)) continue;
     ++frames_with_caustic;
     needed = std::max(needed, reach.radius_holding(kHeldFraction));
-    reaches.push_back(reach);
+    reaches.push_back(std::move(reach));
   }
   const double cap = ball_radius_cap(cells_across);
   if (frames_with_caustic == 0) {
@@ -95,6 +98,7 @@ void BallLoss::add(const SceneFrame& frame, const Tracer& tracer, int object, co
   const CausticReach reach = frame_reach(frame, tracer, object, build_bounds);
   total += reach.total_flux;
   beyond += reach.fraction_beyond(radii) * reach.total_flux;
+  paper_inside += reach.paper_flux_within(radii);
   needed = std::max(needed, reach.radius_holding(kHeldFraction) * kRadiusMargin);
 }
 

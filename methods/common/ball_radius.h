@@ -4,6 +4,7 @@
 // (CausticMethod::lost_flux). Decisions and their reasons: methods/lpi/README.md, "The sampled ball".
 #pragma once
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -45,13 +46,23 @@ BallRadius choose_ball_radius(const PrepareContext& context, int object, const B
 // The probes of one frame (kProbePhotons, a fixed seed), measured from `build_bounds`' centre.
 CausticReach frame_reach(const SceneFrame& frame, const Tracer& tracer, int object, const BoundingSphere& build_bounds);
 
+// The probes of each of at most kProbedFrames of context's frames, evenly spread, first and last included
+// (frames whose probes meet no receiver give an empty reach).
+std::vector<CausticReach> probe_frames(const PrepareContext& context, int object, const BoundingSphere& build_bounds);
+
 // A frame's caustic flux against the balls of its objects, summed over objects (each add() probes one):
 // the flux that first meets a receiver, the part of it beyond the object's ball, and the largest ball
-// (in bounding radii) that auto would choose for this frame. What lost_flux reports.
+// (in bounding radii) that auto would choose for this frame, and of the flux inside the balls, what
+// lpi's paper orientation renders (CausticReach::paper_flux_within). What lost_flux reports.
 struct BallLoss {
-  double total = 0.0, beyond = 0.0, needed = 0.0;
+  double total = 0.0, beyond = 0.0, needed = 0.0, paper_inside = 0.0;
   void add(const SceneFrame& frame, const Tracer& tracer, int object, const BoundingSphere& build_bounds, double radii);
   double fraction() const { return total > 0.0 ? beyond / total : 0.0; }
+  // The light inside the balls that the paper orientation does not render, as a fraction of the total
+  // (0 where it renders all of it or more).
+  double paper_orientation_loss() const {
+    return total > 0.0 ? std::max(0.0, (total - beyond - paper_inside) / total) : 0.0;
+  }
 };
 
 }  // namespace causticbench

@@ -1,6 +1,7 @@
 #include "methods/common/caustic_reach.h"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 
 #include "core/parallel.h"
@@ -27,6 +28,22 @@ double CausticReach::fraction_beyond(double radius) const {
   return beyond / total_flux;
 }
 
+double CausticReach::paper_flux_within(double radius) const {
+  double flux = 0.0;
+  for (const Hit& hit : hits)
+    if (hit.distance <= radius) flux += hit.flux * hit.paper_share;
+  return flux;
+}
+
+double paper_orientation_share(const Vec3& travel, const Vec3& normal, const Vec3& from_center) {
+  const double distance = glm::length(from_center);
+  if (!(distance > 0.0)) return 0.0;  // the lookup's cosine at the centre itself
+  const Vec3 direction = from_center / static_cast<float>(distance);
+  const double stored = std::max(0.0f, glm::dot(travel, direction));
+  const double receiver = std::max(0.0f, -glm::dot(normal, direction));
+  return stored * receiver / std::max(kGrazingCosine, static_cast<double>(std::fabs(glm::dot(normal, travel))));
+}
+
 CausticReach probe_caustic_reach(const SceneFrame& frame, const Tracer& tracer, int object, const BuildSpaceMap& map,
                                  const BoundingSphere& build_bounds, uint64_t photons, uint64_t seed) {
   CausticReach reach;
@@ -46,7 +63,11 @@ CausticReach probe_caustic_reach(const SceneFrame& frame, const Tracer& tracer, 
       const Photon& first = deposits.front();
       const double flux = static_cast<double>(luminance(first.power));
       if (!(flux > 0.0)) continue;
-      slots[i] = CausticReach::Hit{glm::length(map.point(first.position) - build_bounds.center) / build_bounds.radius, flux};
+      const Vec3 from_center = map.point(first.position) - build_bounds.center;
+      const Vec3 travel = glm::normalize(map.vector(first.direction));
+      const Vec3 normal = glm::normalize(map.normals * first.normal);
+      slots[i] = CausticReach::Hit{glm::length(from_center) / build_bounds.radius, flux,
+                                   paper_orientation_share(travel, normal, from_center)};
     }
   });
   for (const std::optional<CausticReach::Hit>& slot : slots) {

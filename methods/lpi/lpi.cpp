@@ -15,6 +15,7 @@
 #include "methods/lpi/gpu_frame.h"
 #include "methods/lpi/lookup.h"
 #include "methods/lpi/multires_layout.h"
+#include "methods/lpi/orientation_choice.h"
 #include "methods/lpi/volume_radius.h"
 #include "methods/lpi/vulkan_lpi.h"
 #include "methods/common/spherical_harmonics.h"
@@ -208,14 +209,17 @@ nlohmann::json LpiMethod::record() const {
     objects.push_back(std::move(entry));
   }
   return {{"objects", objects},
+          {"orientation", settings_.orientation == Orientation::paper ? "paper" : "vector"},
+          {"orientation_why", orientation_reason_},
           {"backend", backend_},
           {"gpu_device", gpu_context_ && vulkan_ ? gpu_context_->device_name() : ""}};
 }
 
 // Probe photons from this frame's lights at each object, through the whole scene: the flux of the
-// objects' caustics that first lands beyond the ball each was sampled in. Under `outside: clamp` or
+// objects' caustics that first lands beyond the ball each was sampled in (under `outside: clamp` or
 // `fade` it is rendered from the ball's surface value, under `zero` not at all: either way the volume
-// does not hold it.
+// does not hold it), and in the paper orientation the light inside the balls its cosine does not
+// render (caustic_reach.h, paper_orientation_share; light it renders in excess is not counted).
 std::optional<LostFlux> LpiMethod::lost_flux(const FrameContext& frame, const GBuffer&, const ParamSet&) {
   BallLoss loss;
   for (const ObjectVolumes& object : objects_)
@@ -223,7 +227,24 @@ std::optional<LostFlux> LpiMethod::lost_flux(const FrameContext& frame, const GB
   const double needed = loss.needed;
   LostFlux lost;
   lost.fraction = loss.fraction();
-  lost.what = "caustic flux whose first receiver hit lies outside the sampled ball";
+  const double cosine = settings_.orientation == Orientation::paper ? loss.paper_orientation_loss() : 0.0;
+  if (cosine > 0.0) {
+    lost.fraction = std::min(1.0, lost.fraction + cosine);
+    if (cosine >= loss.fraction()) {
+      lost.what = fmt::format("caustic light the paper orientation's cosine does not render on these receivers ({:.1f} "
+                              "%), and light landing outside the sampled ball ({:.1f} %)",
+                              100.0 * cosine, 100.0 * loss.fraction());
+      lost.knob = "orientation";
+      lost.advice = fmt::format("set orientation: vector (auto chooses it where the paper's cosine renders the probes' "
+                                "light more than {:.0f} % off)",
+                                100.0 * kPaperOrientationTolerance);
+      return lost;
+    }
+  }
+  lost.what = cosine > 0.0 ? fmt::format("caustic flux whose first receiver hit lies outside the sampled ball ({:.1f} "
+                                         "%), and light the paper orientation's cosine does not render ({:.1f} %)",
+                                         100.0 * loss.fraction(), 100.0 * cosine)
+                           : "caustic flux whose first receiver hit lies outside the sampled ball";
   lost.knob = "volume_radius";
   const double cap = volume_radius_cap(settings_);
   if (settings_.volume_radius > 0.0) {

@@ -67,6 +67,7 @@ class LpiMethod : public CausticMethod, public BuildCache, public GpuBackend {
 
 
   lpi::VolumeSettings settings_;
+  std::string orientation_reason_;  // the orientation set, or what auto measured (orientation_choice.h)
   const Scene* scene_ = nullptr;
   std::vector<lpi::ObjectVolumes> objects_;
   std::vector<lpi::ObjectFrame> frame_;

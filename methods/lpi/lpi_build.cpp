@@ -15,6 +15,7 @@
 #include "methods/lpi/gpu_frame.h"
 #include "methods/common/spherical_harmonics.h"
 #include "methods/lpi/lpi.h"
+#include "methods/lpi/orientation_choice.h"
 #include "methods/lpi/volume_radius.h"
 
 namespace causticbench {
@@ -195,10 +196,33 @@ void check_vulkan_lights(const Scene& scene) {
                                    scene.source, light.name));
 }
 
+// The specular objects with their bounding spheres in build space, where the probes measure from.
+std::vector<std::pair<int, BoundingSphere>> build_space_bounds(const PrepareContext& context) {
+  std::vector<std::pair<int, BoundingSphere>> objects;
+  for (int object : context.rest.specular_objects()) {
+    const Scene alone = build_space_scene(context.scene, object);
+    objects.emplace_back(object, SceneFrame(alone, 0.0).bounds[0]);
+  }
+  return objects;
+}
+
+// orientation: auto takes what the scene's receivers need (orientation_choice.h); returns why.
+std::string resolve_orientation(const PrepareContext& context, VolumeSettings& settings) {
+  if (!settings.orientation_auto)
+    return fmt::format("orientation: {} (set)", settings.orientation == Orientation::paper ? "paper" : "vector");
+  const bool one_cell = ((settings.storage == StorageKind::grid || settings.storage == StorageKind::sh) &&
+                         settings.grid_resolution == 1) ||
+                        (settings.storage == StorageKind::multires && settings.multires_depth == 0);
+  const OrientationChoice choice = choose_orientation(context, build_space_bounds(context), one_cell);
+  settings.orientation = choice.orientation;
+  return choice.reason;
+}
+
 }  // namespace
 
 void LpiMethod::plan(const PrepareContext& context, const ParamSet& build) {
   settings_ = volume_settings(build);
+  orientation_reason_ = resolve_orientation(context, settings_);
   backend_ = build.text("backend");
   if (backend_ == "vulkan") {
     check_vulkan_supports(settings_);
@@ -265,7 +289,14 @@ std::optional<nlohmann::json> LpiMethod::build_dependencies(const PrepareContext
   }
   // backend: cpu leaves the keys of builds stored before the knob as they were; every other build knob,
   // vulkan included, names a build of its own (the suite's rule: tests/test_conformance.cpp).
-  return nlohmann::json{{"objects", objects}, {"build", build.key_json(static_info().params)}};
+  nlohmann::json dependencies{{"objects", objects}, {"build", build.key_json(static_info().params)}};
+  // auto: the orientation the probes chose (it depends on the receivers too).
+  VolumeSettings settings = volume_settings(build);
+  if (settings.orientation_auto) {
+    resolve_orientation(context, settings);
+    dependencies["orientation"] = settings.orientation == Orientation::paper ? "paper" : "vector";
+  }
+  return dependencies;
 }
 
 // The build's peak (precompute.cpp, shoot_light_samples), per specular object, V = points x channels
@@ -276,7 +307,8 @@ std::optional<nlohmann::json> LpiMethod::build_dependencies(const PrepareContext
 // samples. vulkan: the device's copy of the stored values (host memory under lavapipe). Objects are
 // summed although their transients do not overlap: an upper bound, within about 1.3x for one object.
 std::vector<MemoryTerm> LpiMethod::knob_memory(const PrepareContext& context, const ParamSet& knobs) const {
-  const VolumeSettings settings = volume_settings(knobs);
+  VolumeSettings settings = volume_settings(knobs);
+  resolve_orientation(context, settings);
   std::vector<MemoryTerm> terms;
   for (int object : context.rest.specular_objects()) {
     const Scene alone = build_space_scene(context.scene, object);

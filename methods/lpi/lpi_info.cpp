@@ -14,6 +14,7 @@
 #include "methods/lpi/gpu_frame.h"
 #include "methods/lpi/lookup.h"
 #include "methods/lpi/multires_layout.h"
+#include "methods/lpi/orientation_choice.h"
 #include "methods/lpi/vulkan_lpi.h"
 #include "methods/common/spherical_harmonics.h"
 
@@ -117,9 +118,12 @@ const MethodInfo& LpiMethod::static_info() {
         ParamSpec::choice("precision", "float32", {"uint8", "float16", "float32"},
                           "stored value type; uint8 scales each light sample's values to 0..255 (the paper stored 3 bytes a colour)",
                           ParamPhase::build),
-        ParamSpec::choice("orientation", "paper", {"paper", "vector"},
-                          "paper: irradiance on the surface facing the object's centre, corrected by the cosine to the "
-                          "receiver's normal (Section 3.2); vector: the vector irradiance, shaded max(0, n . E)",
+        ParamSpec::choice("orientation", "auto", {"auto", "paper", "vector"},
+                          fmt::format("auto: paper where probe photons show its cosine renders the light landing on "
+                                      "the scene's receivers within {:.0f} %, else vector; paper: irradiance on the "
+                                      "surface facing the object's centre, corrected by the cosine to the receiver's "
+                                      "normal (Section 3.2); vector: the vector irradiance, shaded max(0, n . E)",
+                                      100.0 * kPaperOrientationTolerance),
                           ParamPhase::build),
         ParamSpec::real("volume_radius", 3.0, 0.01, 1000.0,
                         "radius of the sampled ball, in bounding radii of the object; auto: the smallest ball holding "
@@ -225,6 +229,8 @@ VolumeSettings lpi::volume_settings(const ParamSet& build) {
     settings.shell_spacing = build.text("shell_spacing") == "uniform" ? 0 : 1;
   }
   settings.precision = parse_precision(build.text("precision"));
+  // auto: vector until plan() resolves it from the scene (the larger of the two, for what is sized before).
+  settings.orientation_auto = build.text("orientation") == "auto";
   settings.orientation = build.text("orientation") == "paper" ? Orientation::paper : Orientation::vector;
   // The knob rules (static_info) refuse these before any work; a caller that bypassed them still stops here.
   const std::string one_cell = build.has("grid_resolution")  ? grid_one_cell_problem(build)

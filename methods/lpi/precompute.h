@@ -37,6 +37,7 @@ struct VolumeSettings {
   int sh_order = 4;                 // highest degree of the spherical harmonics
   double volume_radius = 0.0;       // in bounding radii; 0: auto (volume_radius.h chooses it per object)
   Orientation orientation = Orientation::paper;
+  bool orientation_auto = false;     // auto: `orientation` is what plan() resolved (orientation_choice.h)
   Precision precision = Precision::float32;
   uint64_t photons_per_sample = 1000000;
   uint64_t seed = 1;
