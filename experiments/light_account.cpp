@@ -13,11 +13,20 @@
 
 namespace causticbench {
 
+const nlohmann::json* reference_light_in_view(const nlohmann::json& reference_record) {
+  if (!reference_record.is_object() || !reference_record.contains("path_classes")) return nullptr;
+  const nlohmann::json& classes = reference_record["path_classes"];
+  if (!classes.is_object() || !classes.contains("in_view") || !classes["in_view"].is_object()) return nullptr;
+  const nlohmann::json& in_view = classes["in_view"];
+  const double amount = in_view.contains("pixel_sum") ? in_view.value("pixel_sum", 0.0) : in_view.value("flux", 0.0);
+  return amount > 0.0 ? &in_view : nullptr;
+}
+
 std::optional<LightAccount> account_for_light(const nlohmann::json& reference_record, const Capabilities& capabilities,
                                               double energy_ratio, double lost_fraction, double moved) {
-  if (!reference_record.is_object() || !reference_record.contains("path_classes")) return std::nullopt;
-  const nlohmann::json in_view = reference_record["path_classes"].value("in_view", nlohmann::json());
-  if (!in_view.is_object() || in_view.value("flux", 0.0) <= 0.0 || !in_view.contains("joint")) return std::nullopt;
+  const nlohmann::json* found = reference_light_in_view(reference_record);
+  if (!found || !found->contains("joint")) return std::nullopt;
+  const nlohmann::json& in_view = *found;
   std::map<std::string, bool> declared;
   for (const auto& [name, value] : capabilities.entries()) declared[name] = value;
   LightAccount account;

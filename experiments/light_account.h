@@ -1,4 +1,4 @@
-// Where a run's light went (issue 52): against the reference's caustic flux in view, a run's measured
+// Where a run's light went (issue 52): against the reference's caustic light in view, a run's measured
 // energy ratio, the method's own lost flux (what its knobs can recover: methods/method.h, LostFlux), its
 // model share (the reference's light in the path classes it declares it does not model: the joint
 // interaction x light shares of the reference's `path_classes`, core/path_classes.h) and what is left.
@@ -55,8 +55,13 @@ struct LightAccount {
   bool flagged = false;
 };
 
+// The reference record's in-view split ("path_classes" "in_view") where it holds light in view: its
+// "pixel_sum" (the image's summed E_c the split weights by) or, computed before that weighting, its
+// "flux", above 0; nullptr otherwise (computed before issue 52, or nothing in view).
+const nlohmann::json* reference_light_in_view(const nlohmann::json& reference_record);
+
 // The account, or nothing when the reference record has no joint split (computed before issue 52) or no
-// caustic flux in view.
+// caustic light in view.
 // `moved`: the part of `lost_fraction` the method moved rather than dropped (LostFlux::moved).
 std::optional<LightAccount> account_for_light(const nlohmann::json& reference_record, const Capabilities& capabilities,
                                               double energy_ratio, double lost_fraction, double moved = 0.0);

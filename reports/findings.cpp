@@ -172,9 +172,9 @@ std::vector<std::string> findings(const Report& report, bool html) {
                                   num(*variant.reference_error), ratio >= 10.0 ? "well below" : "NOT well below",
                                   fmt::format("{:.3g}", ratio)));
     }
-    // The reference's caustic flux in view by light-path class (the first frame's; issue 52).
+    // The reference's caustic light in view by light-path class (the first frame's; issue 52).
     if (std::optional<std::string> required = scene_requirements_text(variant.reference))
-      lines.push_back(fmt::format("What this scene requires{} (the reference's caustic flux in view, frame {}): {}.", in,
+      lines.push_back(fmt::format("What this scene requires{} (the reference's caustic light in view, frame {}): {}.", in,
                                   variant.reference.value("frame", 0), text(*required)));
     // Where each run's light went (Run::light_account): what each method does not model, once per
     // method, and every run whose light is not accounted for.

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "experiments/light_account.h"
 
 namespace causticbench::report_detail {
 
@@ -48,9 +49,9 @@ std::vector<std::string> listed(const nlohmann::json& group, bool interaction) {
 }  // namespace
 
 std::optional<std::string> scene_requirements_text(const nlohmann::json& reference_record) {
-  if (!reference_record.is_object() || !reference_record.contains("path_classes")) return std::nullopt;
-  const nlohmann::json& in_view = reference_record["path_classes"].value("in_view", nlohmann::json());
-  if (!in_view.is_object() || in_view.value("flux", 0.0) <= 0.0) return std::nullopt;
+  const nlohmann::json* found = reference_light_in_view(reference_record);
+  if (!found) return std::nullopt;
+  const nlohmann::json& in_view = *found;
   const std::vector<std::string> interactions = listed(in_view.value("interaction", nlohmann::json()), true);
   const std::vector<std::string> lights = listed(in_view.value("light", nlohmann::json()), false);
   if (interactions.empty()) return std::nullopt;

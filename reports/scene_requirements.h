@@ -1,4 +1,4 @@
-// "What this scene requires" (issue 52): the reference's caustic flux in view split into light-path
+// "What this scene requires" (issue 52): the reference's caustic light in view split into light-path
 // classes (methods/reference/path_class_tally.h), as one sentence of the report's findings.
 #pragma once
 
@@ -15,7 +15,7 @@ namespace causticbench::report_detail {
 // the light that would arrive without them (occlusion)"; classes
 // in falling share, standard errors in percentage points to two digits,
 // those below 0.05 % left out. Nothing when the record has no split (a reference computed before it was
-// measured) or no caustic flux in view.
+// measured) or no caustic light in view.
 std::optional<std::string> scene_requirements_text(const nlohmann::json& reference_record);
 
 }  // namespace causticbench::report_detail

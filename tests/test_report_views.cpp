@@ -197,7 +197,7 @@ TEST_F(ReportTest, RunsOfAnOlderReferenceAreStaleNotCompared) {
   EXPECT_TRUE(found);
 }
 
-// Issue 52: the reference's split of its caustic flux in view into light-path classes is one finding, classes
+// Issue 52: the reference's split of its caustic light in view into light-path classes is one finding, classes
 // in falling share with their standard errors, those under 0.05 % left out; a reference without the split
 // (computed before it was measured) gives no such line.
 TEST_F(ReportTest, FindingsSayWhatTheSceneRequires) {
@@ -216,7 +216,7 @@ TEST_F(ReportTest, FindingsSayWhatTheSceneRequires) {
   record["path_classes"]["in_view"]["interaction"]["one_pass"]["capability"] = "refraction";
   write_json(record_path, record);
   md = read_text(write_report(folder.string()).markdown);
-  EXPECT_NE(md.find("What this scene requires (the reference's caustic flux in view, frame 0): 80.0 % (\u00b1 1.2) one "
+  EXPECT_NE(md.find("What this scene requires (the reference's caustic light in view, frame 0): 80.0 % (\u00b1 1.2) one "
                     "pass through a refracting object (refraction), 20.0 % (\u00b1 1) one reflection (reflection); "
                     "light: 100.0 % (\u00b1 0) directional."),
             std::string::npos)

@@ -5,28 +5,29 @@
 namespace causticbench {
 
 void PathClassTally::add_replicate(const std::vector<Photon>& photons, const std::vector<uint8_t>& classes,
-                                   const std::vector<int32_t>& targets, const CausticPhotonTracer::Blocked& blocked,
-                                   const std::vector<int32_t>& blocked_targets, uint64_t emitted) {
+                                   InView seen, const CausticPhotonTracer::Blocked& blocked, InView blocked_seen,
+                                   uint64_t emitted) {
   Sums view, all;
   const double scale = 1.0 / static_cast<double>(std::max<uint64_t>(1, emitted));
+  auto add = [](Sums& sums, const PathClass& path, double light_amount) {
+    const auto interaction = static_cast<size_t>(path.interaction), light = static_cast<size_t>(path.light),
+               receiver = static_cast<size_t>(path.receiver);
+    sums.interaction[interaction] += light_amount;
+    sums.light[light] += light_amount;
+    sums.receiver[receiver] += light_amount;
+    sums.joint[(interaction * kPathLights + light) * kPathReceivers + receiver] += light_amount;
+    sums.total += light_amount;
+  };
   for (size_t i = 0; i < photons.size() && i < classes.size(); ++i) {
     const PathClass path = PathClass::unpack(classes[i]);
     const double flux = static_cast<double>(luminance(photons[i].power)) * scale;
-    const auto interaction = static_cast<size_t>(path.interaction), light = static_cast<size_t>(path.light),
-               receiver = static_cast<size_t>(path.receiver);
-    for (Sums* sums : {&all, targets.size() > i && targets[i] >= 0 ? &view : nullptr}) {
-      if (!sums) continue;
-      sums->interaction[interaction] += flux;
-      sums->light[light] += flux;
-      sums->receiver[receiver] += flux;
-      sums->joint[(interaction * kPathLights + light) * kPathReceivers + receiver] += flux;
-      sums->total += flux;
-    }
+    add(all, path, flux);
+    if (seen.seen(i)) add(view, path, flux * seen.weight(i));
   }
   for (size_t i = 0; i < blocked.photons.size(); ++i) {
     const double flux = static_cast<double>(luminance(blocked.photons[i].power)) * scale;
     all.blocked += flux;
-    if (blocked_targets.size() > i && blocked_targets[i] >= 0) view.blocked += flux;
+    if (blocked_seen.seen(i)) view.blocked += flux * blocked_seen.weight(i);
   }
   in_view_.push_back(view);
   everywhere_.push_back(all);
@@ -61,10 +62,11 @@ nlohmann::json share_of(const std::vector<PathClassTally::Sums>& replicates, Pic
   return share_of(replicates, pick, [](const PathClassTally::Sums& s) { return s.total; }, capability);
 }
 
-nlohmann::json shares(const std::vector<PathClassTally::Sums>& replicates) {
+// `amount`: what the totals are ("pixel_sum" in view, "flux" everywhere).
+nlohmann::json shares(const std::vector<PathClassTally::Sums>& replicates, const char* amount) {
   double total = 0.0, blocked = 0.0;
   for (const auto& sums : replicates) total += sums.total, blocked += sums.blocked;
-  nlohmann::json out = {{"flux", replicates.empty() ? 0.0 : total / static_cast<double>(replicates.size())},
+  nlohmann::json out = {{amount, replicates.empty() ? 0.0 : total / static_cast<double>(replicates.size())},
                         {"replicates", replicates.size()}};
   for (int k = 0; k < kPathInteractions; ++k) {
     const auto interaction = static_cast<PathInteraction>(k);
@@ -113,17 +115,18 @@ nlohmann::json shares(const std::vector<PathClassTally::Sums>& replicates) {
 }  // namespace
 
 nlohmann::json PathClassTally::to_json() const {
-  return {{"definition", "share of the reference's caustic flux (luminance) in each light-path class: by "
+  return {{"definition", "share of the reference's caustic light (luminance) in each light-path class: by "
                          "interaction (one_reflection: one reflection off an object's outside; one_pass: into one "
                          "refracting object and out with nothing between, or into an open surface's medium; "
                          "multiple: everything else), by the light's kind and by the receiver (lambertian: diffuse; "
                          "non_lambertian: glossy or diffuse_mirror); occlusion: the light occluders block between the "
                          "light and a specular object or between it and a receiver behind the one it reaches, followed "
                          "on as if they were not there; in view: the photons credited to a "
-                         "receiver pixel; everywhere: every photon deposited on a receiver; standard_error from the "
-                         "spread of the passes (core/path_classes.h)"},
-          {"in_view", shares(in_view_)},
-          {"everywhere", shares(everywhere_)}};
+                         "receiver pixel, each weighted by its pixel's pixels per unit area as the image is (shares of "
+                         "the image's summed E_c); everywhere: every photon's flux deposited on a receiver; "
+                         "standard_error from the spread of the passes (core/path_classes.h)"},
+          {"in_view", shares(in_view_, "pixel_sum")},
+          {"everywhere", shares(everywhere_, "flux")}};
 }
 
 }  // namespace causticbench

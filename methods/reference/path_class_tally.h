@@ -1,6 +1,8 @@
-// What a scene requires (issue 52): the share of the reference's caustic flux in each light-path class
-// (core/path_classes.h), in view (the photons the footprint tally credits to a receiver pixel) and
-// everywhere (every photon deposited on a receiver, in view or not), with the sampling error of each share
+// What a scene requires (issue 52): the share of the reference's caustic light in each light-path class
+// (core/path_classes.h), in view (the photons the footprint tally credits to a receiver pixel, each
+// weighted as the image weights it, by its pixel's pixels per unit area, so that a share is a share of
+// the image's summed E_c, the sum an energy ratio compares) and everywhere (every photon's flux deposited
+// on a receiver, in view or not), with the sampling error of each share
 // from the spread of the replicates (the passes of stratified emission, independent of each other).
 // Stored with the reference's record ("path_classes", methods/reference/README.md, "What a scene requires").
 #pragma once
@@ -28,13 +30,21 @@ class PathClassTally {
     double total = 0.0;
     double blocked = 0.0;  // the flux occluders took (CausticPhotonTracer::Blocked), not in `total`
   };
-  // One replicate of `emitted` photons: `classes[i]` is photon i's PathClass::packed, `targets[i]` the
-  // measurement point the footprint tally credited it to (-1: not in view); the same for the blocked paths.
-  void add_replicate(const std::vector<Photon>& photons, const std::vector<uint8_t>& classes,
-                     const std::vector<int32_t>& targets, const CausticPhotonTracer::Blocked& blocked,
-                     const std::vector<int32_t>& blocked_targets, uint64_t emitted);
-  // {"definition", "in_view": {...}, "everywhere": {...}}; each holds "flux" (W, luminance, over the
-  // photons emitted), "replicates", and per interaction, light and receiver class its "share",
+  // Where the footprint tally sees each photon: the measurement point it is credited to (-1: not in
+  // view) and its pixel's pixels per unit area (FootprintTally::credit's weight).
+  struct InView {
+    const std::vector<int32_t>& targets;
+    const std::vector<double>& weights;
+    bool seen(size_t i) const { return i < targets.size() && targets[i] >= 0; }
+    double weight(size_t i) const { return i < weights.size() ? weights[i] : 0.0; }
+  };
+  // One replicate of `emitted` photons: `classes[i]` is photon i's PathClass::packed; `seen` where the
+  // arriving photons are seen, `blocked_seen` the blocked paths' photons.
+  void add_replicate(const std::vector<Photon>& photons, const std::vector<uint8_t>& classes, InView seen,
+                     const CausticPhotonTracer::Blocked& blocked, InView blocked_seen, uint64_t emitted);
+  // {"definition", "in_view": {...}, "everywhere": {...}}; "in_view" holds "pixel_sum" (luminance E_c
+  // summed over the receiver pixels, per photon emitted: the image's sum), "everywhere" "flux" (W,
+  // luminance, over the photons emitted); each "replicates", and per interaction, light and receiver class its "share",
   // "standard_error" (null with fewer than two replicates) and the "capability" a method needs for it
   // ("" for none); "joint" the same per triple "interaction/light/receiver" (its "capabilities", those
   // that are not ""), from which a method's model share is summed; "occlusion": the blocked flux's "share",

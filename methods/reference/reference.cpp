@@ -129,6 +129,7 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
   std::vector<Photon> photons;
   std::vector<uint8_t> classes;   // each photon's path class (core/path_classes.h)
   std::vector<int32_t> targets;   // each photon's point, -1 where not in view; released after each stream
+  std::vector<double> weights, blocked_weights;  // pixels per unit area where each (blocked) photon is seen
   CausticPhotonTracer::Blocked blocked;  // the paths occluders block, followed on (core/path_classes.h)
   PathClassTally path_classes;
   nlohmann::json history = nlohmann::json::array();
@@ -149,13 +150,16 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
                               classes, &blocked);
       auto credit_start = std::chrono::steady_clock::now();
       trace_seconds += std::chrono::duration<double>(credit_start - trace_start).count();
-      if (points.size() > 0) credited += tally.credit(points, *camera_, *tracer_, photons, &targets);
+      if (points.size() > 0) credited += tally.credit(points, *camera_, *tracer_, photons, &targets, &weights);
       tally.end_replicate(photons_per_stream);
       const std::vector<int32_t> blocked_targets =
-          points.size() > 0 ? FootprintTally::locate(points, *camera_, *tracer_, blocked.photons)
+          points.size() > 0 ? FootprintTally::locate(points, *camera_, *tracer_, blocked.photons, &blocked_weights)
                             : std::vector<int32_t>(blocked.photons.size(), -1);
-      path_classes.add_replicate(photons, classes, targets, blocked, blocked_targets, photons_per_stream);
-      std::vector<int32_t>().swap(targets);  // not held while the next stream traces (knob_memory's bound)
+      path_classes.add_replicate(photons, classes, PathClassTally::InView{targets, weights}, blocked,
+                                 PathClassTally::InView{blocked_targets, blocked_weights}, photons_per_stream);
+      // Not held while the next stream traces (knob_memory's bound).
+      std::vector<int32_t>().swap(targets);
+      std::vector<double>().swap(weights);
       credit_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - credit_start).count();
       if (progressive) {
         halves[h].add_emitted(photons_per_stream);

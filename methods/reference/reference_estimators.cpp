@@ -42,7 +42,8 @@ std::vector<int32_t> FootprintTally::locate(const MeasurementPoints& points, con
 }
 
 uint64_t FootprintTally::credit(const MeasurementPoints& points, const CameraFrame& camera, const Tracer& tracer,
-                                const std::vector<Photon>& photons, std::vector<int32_t>* targets) {
+                                const std::vector<Photon>& photons, std::vector<int32_t>* targets,
+                                std::vector<double>* weights) {
   std::vector<double> weight;
   std::vector<int32_t> target = locate(points, camera, tracer, photons, &weight);
   uint64_t credited = 0;
@@ -55,6 +56,7 @@ uint64_t FootprintTally::credit(const MeasurementPoints& points, const CameraFra
     ++credited;
   }
   if (targets) *targets = std::move(target);
+  if (weights) *weights = std::move(weight);
   return credited;
 }
 

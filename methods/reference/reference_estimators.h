@@ -44,9 +44,11 @@ class FootprintTally {
   // Credits the photons of one batch: projects each through the camera, keeps it when the camera sees
   // the side it arrived on with nothing in between and its pixel is a receiver. Deterministic for any
   // thread count (the sums run in photon order). Returns how many were credited.
-  // With `targets`, it receives each photon's point (-1: not credited).
+  // With `targets`, it receives each photon's point (-1: not credited); with `weights`, each photon's
+  // pixels per unit area there (what its power is credited times: 0 where not credited).
   uint64_t credit(const MeasurementPoints& points, const CameraFrame& camera, const Tracer& tracer,
-                  const std::vector<Photon>& photons, std::vector<int32_t>* targets = nullptr);
+                  const std::vector<Photon>& photons, std::vector<int32_t>* targets = nullptr,
+                  std::vector<double>* weights = nullptr);
   // Each photon's point as credit() finds it (-1: not in view), without crediting it: where light that an
   // occluder blocked would have been seen (PathClassTally).
   static std::vector<int32_t> locate(const MeasurementPoints& points, const CameraFrame& camera, const Tracer& tracer,
