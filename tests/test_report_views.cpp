@@ -333,7 +333,7 @@ TEST_F(ReportTest, TradeoffsOnAnyAxesAndTheViews) {
 
 // Issue 52, item 5: a run is named by its experiment entry and every knob that differs from its method's
 // defaults, wherever one run is named, and two entries of one method are two columns. On the synthetic
-// folder, pm_1e4 becomes the quickstart's "lpi grid vector" entry (orientation: vector fixed, grid_resolution
+// folder, pm_1e4 becomes an entry like the quickstart's "lpi grid paper", "lpi grid vector" (orientation: vector fixed, grid_resolution
 // swept), pm_1e5_k10 a second photon_map entry "photon_map fixed k", and pin_400 an external entry
 // "my_splat" whose command is its only knob off its default.
 TEST_F(ReportTest, RunsAreNamedByTheirEntryAndTheKnobsOffTheirDefaults) {

@@ -58,8 +58,8 @@ struct BallLoss {
   double total = 0.0, beyond = 0.0, needed = 0.0, paper_inside = 0.0;
   void add(const SceneFrame& frame, const Tracer& tracer, int object, const BoundingSphere& build_bounds, double radii);
   double fraction() const { return total > 0.0 ? beyond / total : 0.0; }
-  // The light inside the balls that the paper orientation does not render, as a fraction of the total
-  // (0 where it renders all of it or more).
+  // The light inside the balls that the paper orientation does not render, net of what it renders in
+  // excess, as a fraction of the total (0 where it renders all of it or more).
   double paper_orientation_loss() const {
     return total > 0.0 ? std::max(0.0, (total - beyond - paper_inside) / total) : 0.0;
   }

@@ -219,7 +219,8 @@ nlohmann::json LpiMethod::record() const {
 // objects' caustics that first lands beyond the ball each was sampled in (under `outside: clamp` or
 // `fade` it is rendered from the ball's surface value, under `zero` not at all: either way the volume
 // does not hold it), and in the paper orientation the light inside the balls its cosine does not
-// render (caustic_reach.h, paper_orientation_share; light it renders in excess is not counted).
+// render (caustic_reach.h, paper_orientation_share), net of the light it renders in excess elsewhere:
+// the light account compares energies, and a net excess is not lost.
 std::optional<LostFlux> LpiMethod::lost_flux(const FrameContext& frame, const GBuffer&, const ParamSet&) {
   BallLoss loss;
   for (const ObjectVolumes& object : objects_)
@@ -235,9 +236,13 @@ std::optional<LostFlux> LpiMethod::lost_flux(const FrameContext& frame, const GB
                               "%), and light landing outside the sampled ball ({:.1f} %)",
                               100.0 * cosine, 100.0 * loss.fraction());
       lost.knob = "orientation";
-      lost.advice = fmt::format("set orientation: vector (auto chooses it where the paper's cosine renders the probes' "
-                                "light more than {:.0f} % off)",
-                                100.0 * kPaperOrientationTolerance);
+      lost.advice = settings_.orientation_auto
+                        ? fmt::format("set orientation: vector (auto kept the paper's: its cosine renders the probes' "
+                                      "light within {:.0f} % over the rendered frames)",
+                                      100.0 * kPaperOrientationTolerance)
+                        : fmt::format("set orientation: vector (auto chooses it where the paper's cosine renders the "
+                                      "probes' light more than {:.0f} % off)",
+                                      100.0 * kPaperOrientationTolerance);
       return lost;
     }
   }

@@ -229,7 +229,8 @@ VolumeSettings lpi::volume_settings(const ParamSet& build) {
     settings.shell_spacing = build.text("shell_spacing") == "uniform" ? 0 : 1;
   }
   settings.precision = parse_precision(build.text("precision"));
-  // auto: vector until plan() resolves it from the scene (the larger of the two, for what is sized before).
+  // auto: vector until resolve_orientation (lpi_build.cpp) takes it from the scene, in plan(),
+  // build_dependencies() and knob_memory().
   settings.orientation_auto = build.text("orientation") == "auto";
   settings.orientation = build.text("orientation") == "paper" ? Orientation::paper : Orientation::vector;
   // The knob rules (static_info) refuse these before any work; a caller that bypassed them still stops here.

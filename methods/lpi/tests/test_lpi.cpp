@@ -230,10 +230,11 @@ objects:
   const std::string moving = "frames: 2\n" + std::string(yaml) +
                              "    animation: {keyframes: [{frame: 0, translate: [0, 0.15, 0], rotate: [0, 0, 0]}, "
                              "{frame: 1, translate: [0.3, 0.15, 0.1], rotate: [0, 40, 0]}]}\n";
-  // A fixed ball: volume_radius auto fits the ball to where the receivers lie around the object, which
-  // moving the object changes (its build key holds the ball it chose).
+  // A fixed ball and orientation: auto fits both to where the receivers lie around the object, which
+  // moving the object changes (its build key holds what it chose).
   const std::vector<std::string> knobs = {"photons_per_sample=50000", "grid_resolution=24", "light_samples=all",
-                                          "light_subdivision=1", "blend=aligned", "volume_radius=3"};
+                                          "light_subdivision=1", "blend=aligned", "volume_radius=3",
+                                          "orientation=vector"};
   const FrameResult a = causticbench::testing::render(scene_from_yaml(still), "lpi", knobs);
   const FrameResult b = causticbench::testing::render(scene_from_yaml(moving), "lpi", knobs, 1);
   double largest = 0.0, difference = 0.0;

@@ -423,7 +423,7 @@ TEST(LpiFastPaths, DISABLED_LookupThroughputOnTheTurningRing) {
         request.method = "lpi";
         request.frame = frame_index;
         std::vector<std::string> knobs = {"storage=" + storage, "precision=" + precision, "light_subdivision=1",
-                                          "photons_per_sample=100000"};
+                                          "photons_per_sample=100000", "orientation=paper"};
         // sh always projects every geodesic vertex; the sampled storages are told to keep all 42.
         if (blend != "-") knobs.insert(knobs.end(), {"light_samples=all", "blend=" + blend});
         for (const std::string& knob : knobs) request.params.set_assignment(knob, "benchmark");

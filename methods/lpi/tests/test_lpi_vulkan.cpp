@@ -67,13 +67,13 @@ TEST(LpiVulkan, AgreesWithTheCpuBackendOnGridAndShells) {
   const Scene scene = scene_from_yaml(kTwoObjects);
   const std::vector<std::string> base = {"photons_per_sample=4000", "light_subdivision=0", "volume_radius=2.5"};
   const std::vector<std::vector<std::string>> cases = {
-      {"storage=grid", "grid_resolution=20", "blend=barycentric"},
-      {"storage=shells", "shell_count=8", "shell_subdivision=3", "blend=barycentric", "outside=fade"},
+      {"storage=grid", "grid_resolution=20", "blend=barycentric", "orientation=paper"},
+      {"storage=shells", "shell_count=8", "shell_subdivision=3", "blend=barycentric", "outside=fade", "orientation=paper"},
       {"storage=grid", "grid_resolution=17", "blend=aligned", "orientation=vector", "precision=uint8", "outside=zero"},
       {"storage=shells", "shell_count=6", "shell_subdivision=2", "shell_spacing=quadratic", "blend=nearest",
        "orientation=vector", "precision=float16"},
-      {"storage=shells", "shell_count=8", "shell_subdivision=3", "blend=aligned", "precision=uint8"},
-      {"storage=grid", "grid_resolution=16", "symmetry=axial", "precision=float16"},
+      {"storage=shells", "shell_count=8", "shell_subdivision=3", "blend=aligned", "precision=uint8", "orientation=paper"},
+      {"storage=grid", "grid_resolution=16", "symmetry=axial", "precision=float16", "orientation=paper"},
   };
   for (std::vector<std::string> knobs : cases) {
     knobs.insert(knobs.end(), base.begin(), base.end());
