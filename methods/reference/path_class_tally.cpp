@@ -18,16 +18,19 @@ void PathClassTally::add_replicate(const std::vector<Photon>& photons, const std
     sums.joint[(interaction * kPathLights + light) * kPathReceivers + receiver] += light_amount;
     sums.total += light_amount;
   };
+  // In view, the mean of the three channels, as the energy ratio sums an image (masked_sum); everywhere
+  // the flux's luminance, as the probes behind lost flux count it.
+  auto channel_mean = [](const Color& power) {
+    return (static_cast<double>(power.r) + static_cast<double>(power.g) + static_cast<double>(power.b)) / 3.0;
+  };
   for (size_t i = 0; i < photons.size() && i < classes.size(); ++i) {
     const PathClass path = PathClass::unpack(classes[i]);
-    const double flux = static_cast<double>(luminance(photons[i].power)) * scale;
-    add(all, path, flux);
-    if (seen.seen(i)) add(view, path, flux * seen.weight(i));
+    add(all, path, static_cast<double>(luminance(photons[i].power)) * scale);
+    if (seen.seen(i)) add(view, path, channel_mean(photons[i].power) * scale * seen.weight(i));
   }
   for (size_t i = 0; i < blocked.photons.size(); ++i) {
-    const double flux = static_cast<double>(luminance(blocked.photons[i].power)) * scale;
-    all.blocked += flux;
-    if (blocked_seen.seen(i)) view.blocked += flux * blocked_seen.weight(i);
+    all.blocked += static_cast<double>(luminance(blocked.photons[i].power)) * scale;
+    if (blocked_seen.seen(i)) view.blocked += channel_mean(blocked.photons[i].power) * scale * blocked_seen.weight(i);
   }
   in_view_.push_back(view);
   everywhere_.push_back(all);
@@ -115,15 +118,16 @@ nlohmann::json shares(const std::vector<PathClassTally::Sums>& replicates, const
 }  // namespace
 
 nlohmann::json PathClassTally::to_json() const {
-  return {{"definition", "share of the reference's caustic light (luminance) in each light-path class: by "
+  return {{"definition", "share of the reference's caustic light in each light-path class: by "
                          "interaction (one_reflection: one reflection off an object's outside; one_pass: into one "
                          "refracting object and out with nothing between, or into an open surface's medium; "
                          "multiple: everything else), by the light's kind and by the receiver (lambertian: diffuse; "
                          "non_lambertian: glossy or diffuse_mirror); occlusion: the light occluders block between the "
                          "light and a specular object or between it and a receiver behind the one it reaches, followed "
                          "on as if they were not there; in view: the photons credited to a "
-                         "receiver pixel, each weighted by its pixel's pixels per unit area as the image is (shares of "
-                         "the image's summed E_c); everywhere: every photon's flux deposited on a receiver; "
+                         "receiver pixel, each weighted by its pixel's pixels per unit area as the image is, its "
+                         "channels' mean (shares of the image's E_c summed as an energy ratio sums it); everywhere: "
+                         "every photon's flux (luminance) deposited on a receiver; "
                          "standard_error from the spread of the passes (core/path_classes.h)"},
           {"in_view", shares(in_view_, "pixel_sum")},
           {"everywhere", shares(everywhere_, "flux")}};

@@ -1,8 +1,8 @@
 // What a scene requires (issue 52): the share of the reference's caustic light in each light-path class
 // (core/path_classes.h), in view (the photons the footprint tally credits to a receiver pixel, each
-// weighted as the image weights it, by its pixel's pixels per unit area, so that a share is a share of
-// the image's summed E_c, the sum an energy ratio compares) and everywhere (every photon's flux deposited
-// on a receiver, in view or not), with the sampling error of each share
+// weighted as the image weights it, by its pixel's pixels per unit area, and by its channels' mean, so that
+// a share is a share of the image's E_c summed as an energy ratio sums it) and everywhere (every photon's
+// flux, luminance, deposited on a receiver, in view or not), with the sampling error of each share
 // from the spread of the replicates (the passes of stratified emission, independent of each other).
 // Stored with the reference's record ("path_classes", methods/reference/README.md, "What a scene requires").
 #pragma once
@@ -42,8 +42,8 @@ class PathClassTally {
   // arriving photons are seen, `blocked_seen` the blocked paths' photons.
   void add_replicate(const std::vector<Photon>& photons, const std::vector<uint8_t>& classes, InView seen,
                      const CausticPhotonTracer::Blocked& blocked, InView blocked_seen, uint64_t emitted);
-  // {"definition", "in_view": {...}, "everywhere": {...}}; "in_view" holds "pixel_sum" (luminance E_c
-  // summed over the receiver pixels, per photon emitted: the image's sum), "everywhere" "flux" (W,
+  // {"definition", "in_view": {...}, "everywhere": {...}}; "in_view" holds "pixel_sum" (E_c summed over
+  // the receiver pixels, the mean of its channels: the image's sum as an energy ratio takes it), "everywhere" "flux" (W,
   // luminance, over the photons emitted); each "replicates", and per interaction, light and receiver class its "share",
   // "standard_error" (null with fewer than two replicates) and the "capability" a method needs for it
   // ("" for none); "joint" the same per triple "interaction/light/receiver" (its "capabilities", those

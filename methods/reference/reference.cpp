@@ -160,6 +160,7 @@ Image ReferenceMethod::render(const GBuffer& gbuffer, const ParamSet& params) {
       // Not held while the next stream traces (knob_memory's bound).
       std::vector<int32_t>().swap(targets);
       std::vector<double>().swap(weights);
+      std::vector<double>().swap(blocked_weights);
       credit_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - credit_start).count();
       if (progressive) {
         halves[h].add_emitted(photons_per_stream);

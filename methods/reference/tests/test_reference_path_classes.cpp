@@ -154,8 +154,8 @@ TEST(ReferencePathClasses, EachLightKindIsItsOwnClass) {
 // Two independent measures of the same split on the glass sphere: the classes the tracer tags, and the
 // reference's images cut at max_bounces 1 (only one reflection reaches a receiver) and 2 (also in and
 // out; any other path off a lone convex ball needs three events). So one_reflection is S(1) / S and
-// one_pass is (S(2) - S(1)) / S, S the image's E_c summed over the receiver pixels (luminance), the sum
-// an energy ratio compares: the same photons (one seed) in all three, so they agree exactly (0.0402 and
+// one_pass is (S(2) - S(1)) / S, S the image's E_c summed over the receiver pixels as an energy ratio
+// sums it (the mean of the channels): the same photons (one seed) in all three, so they agree exactly (0.0402 and
 // 0.9572 of the image's light) unless the tags and the cut disagree on some path or the split weights
 // the light otherwise than the image does; bounded at 1e-4. The split's in-view total is the image's sum
 // itself (to rounding, 1e-6). Broken on purpose (the in-view light weighted by flux alone, as before
@@ -165,12 +165,7 @@ TEST(ReferencePathClasses, TheSplitAgreesWithTheReferenceCutAtOneAndTwoBounces) 
   const Scene sphere = load_scene(causticbench::testing::shipped_scenes() + "/glass_sphere.yaml");
   const std::vector<std::string> knobs = {"photons_per_pass=200000", "max_passes=4", "min_passes=4", "target_error=0",
                                           "max_seconds=0"};
-  auto image_sum = [](const FrameResult& result) {
-    double sum = 0.0;
-    for (size_t pixel = 0; pixel < result.caustic.pixel_count(); ++pixel)
-      if (result.gbuffer.receiver[pixel]) sum += static_cast<double>(luminance(result.caustic.rgb(pixel)));
-    return sum;
-  };
+  auto image_sum = [](const FrameResult& result) { return masked_sum(result.caustic, result.gbuffer.receiver); };
   auto sum_with_bounces = [&](int bounces) {
     std::vector<std::string> cut = knobs;
     cut.push_back("max_bounces=" + std::to_string(bounces));
@@ -186,6 +181,29 @@ TEST(ReferencePathClasses, TheSplitAgreesWithTheReferenceCutAtOneAndTwoBounces) 
               share(full, "in_view", "interaction", "one_pass"), (two - one) / total);
   EXPECT_NEAR(share(full, "in_view", "interaction", "one_reflection"), one / total, 1e-4);
   EXPECT_NEAR(share(full, "in_view", "interaction", "one_pass"), (two - one) / total, 1e-4);
+}
+
+// Coloured light is weighted as an energy ratio sums an image, by the mean of its channels: the glass
+// ball of the absorbing extreme keeps e^-5, e^-10 and e^-20 of the red, green and blue light it lets
+// through, so its one pass is red while its reflection stays white. The reflection's share is the
+// reference image cut at one bounce over the whole image, summed by masked_sum (measured 0.9091 both);
+// broken on purpose (the in-view light weighted by luminance): 0.9383, fails.
+TEST(ReferencePathClasses, ColouredLightIsWeightedAsTheEnergyRatioSumsIt) {
+  Scene ball = load_scene(causticbench::testing::shipped_scenes() + "/extremes/absorbing.yaml");
+  set_resolution(ball, 64, 64);
+  const std::vector<std::string> knobs = {"photons_per_pass=200000", "max_passes=2", "min_passes=2", "target_error=0",
+                                          "max_seconds=0"};
+  std::vector<std::string> cut = knobs;
+  cut.push_back("max_bounces=1");
+  const FrameResult full = render(ball, "reference", knobs);
+  const FrameResult reflected = render(ball, "reference", cut);
+  const double total = masked_sum(full.caustic, full.gbuffer.receiver);
+  ASSERT_GT(total, 0.0);
+  const double expected = masked_sum(reflected.caustic, reflected.gbuffer.receiver) / total;
+  std::printf("absorbing ball in view: one_reflection %.4f (cut at 1: %.4f)\n",
+              share(full, "in_view", "interaction", "one_reflection"), expected);
+  EXPECT_NEAR(share(full, "in_view", "interaction", "one_reflection"), expected, 1e-4);
+  EXPECT_NEAR(full.method_record.at("path_classes").at("in_view").at("pixel_sum").get<double>() / total, 1.0, 1e-6);
 }
 
 // An occluder across the beam (issue 52): a glass slab (1 x 0.2 x 1, its top at 0.7) over a floor under
